@@ -1,0 +1,251 @@
+//! The paper's thin-lens camera (SPEC section 3), precomputed for one image size.
+//!
+//! Frames: *camera* coordinates have the lens centre at the origin, x along the
+//! paper's u (right), y along v (up) and z along n (backwards: the camera looks
+//! down −z). The film point of a pixel is `p_film = (u_c, v_r, −N)`.
+//!
+//! A thin lens of radius a and focal length f sends every ray from `p_lens` on
+//! the lens towards `p_focus`, where the chief ray (through the lens centre)
+//! meets the plane in focus at depth z_f = f·N / (N − f). Since
+//! `p_focus = p_film · m` with m = z_f / N = f / (N − f), the direction
+//! `p_focus − p_lens` is parallel to `p_film − p_lens / m`, which keeps every
+//! number near the film's size however far the focus lies: what Q16.16 needs.
+//!
+//! The lens samples arrive from outside (see [`crate::lfsr`]), so the camera
+//! itself is deterministic.
+
+use crate::scalar::Scalar;
+use crate::scene::CameraParams;
+use crate::transform::{Affine, Mat34};
+use crate::vec3::Vec3;
+
+/// Largest image side the camera accepts (pixel indices enter Q16.16 as
+/// `2c + 1`, which must stay below 32768).
+pub const MAX_IMAGE_SIDE: u32 = 8192;
+
+/// A camera set up for one image size, in the number type `S`.
+#[derive(Copy, Clone, Debug)]
+pub struct Camera<S: Scalar> {
+    /// Maps `(2c + 1, 2r + 1, 0)` to the film point `(u_c, v_r, −N)`.
+    film: Affine<S>,
+    /// Camera frame → world: columns u, v, n and translation E.
+    to_world: Affine<S>,
+    /// Lens radius a.
+    lens_radius: S,
+    /// a / m: how far a lens sample tilts the direction on the film's scale.
+    lens_tilt: S,
+    /// Pinhole (a = 0): one ray per pixel.
+    pinhole: bool,
+    cols: u32,
+    rows: u32,
+}
+
+/// A primary ray in world space, with a unit direction.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Ray<S> {
+    /// Origin: the lens point.
+    pub origin: Vec3<S>,
+    /// Unit direction.
+    pub dir: Vec3<S>,
+}
+
+/// The camera's orthonormal basis u, v, n in `f64` (n = −look, u = up × n).
+///
+/// `None` when `look` is zero or `up` is parallel to it.
+pub fn basis(params: &CameraParams) -> Option<[[f64; 3]; 3]> {
+    let unit = |v: [f64; 3]| {
+        let l = libm::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        if l > 0.0 && l == l && l < f64::INFINITY {
+            Some(v.map(|x| x / l))
+        } else {
+            None
+        }
+    };
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    };
+    let n = unit(params.look.map(|x| -x))?;
+    let up = unit(params.up)?;
+    let c = cross(up, n);
+    // Parallel, or so nearly that the basis would be noise.
+    let s = libm::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    if s < 1e-9 {
+        return None;
+    }
+    let u = c.map(|x| x / s);
+    let v = cross(n, u);
+    Some([u, v, n])
+}
+
+impl<S: Scalar> Camera<S> {
+    /// Sets the camera up for `cols` × `rows` pixels (square pixels: the film's
+    /// height follows from its width and the row count).
+    ///
+    /// Sizes are clamped to 1..=[`MAX_IMAGE_SIDE`]; parameters are assumed
+    /// validated by the parser (a degenerate basis falls back to the default view).
+    pub fn new(params: &CameraParams, cols: u32, rows: u32) -> Self {
+        let cols = cols.clamp(1, MAX_IMAGE_SIDE);
+        let rows = rows.clamp(1, MAX_IMAGE_SIDE);
+        let [u, v, n] = basis(params).unwrap_or([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+        let e = params.lens_position;
+        let to_world = Mat34([
+            [u[0], v[0], n[0], e[0]],
+            [u[1], v[1], n[1], e[1]],
+            [u[2], v[2], n[2], e[2]],
+        ]);
+        // Pixel pitch p, film half-width W and half-height H.
+        let p = params.width / cols as f64;
+        let half_w = params.width / 2.0;
+        let half_h = p * rows as f64 / 2.0;
+        let big_n = params.image_distance;
+        // u_c = −W + p (c + ½) = (p/2)(2c + 1) − W; v_r = H − (p/2)(2r + 1).
+        let film = Mat34([
+            [p / 2.0, 0.0, 0.0, -half_w],
+            [0.0, -p / 2.0, 0.0, half_h],
+            [0.0, 0.0, 0.0, -big_n],
+        ]);
+        let f = params.focal_length;
+        let pinhole = !(params.radius > 0.0);
+        // m = z_f / N = f / (N − f); the tilt is a / m.
+        let lens_tilt = if pinhole { 0.0 } else { params.radius * (big_n - f) / f };
+        Camera {
+            film: Affine::from_mat(&film),
+            to_world: Affine::from_mat(&to_world),
+            lens_radius: S::from_f64(if pinhole { 0.0 } else { params.radius }),
+            lens_tilt: S::from_f64(lens_tilt),
+            pinhole,
+            cols,
+            rows,
+        }
+    }
+
+    /// Image width in pixels.
+    pub fn cols(&self) -> u32 {
+        self.cols
+    }
+
+    /// Image height in pixels.
+    pub fn rows(&self) -> u32 {
+        self.rows
+    }
+
+    /// Whether this is a pinhole camera (radius 0): one ray per pixel.
+    pub fn is_pinhole(&self) -> bool {
+        self.pinhole
+    }
+
+    /// The film point `(u_c, v_r, −N)` of pixel (`col`, `row`), camera frame.
+    #[inline]
+    pub fn p_film(&self, col: u32, row: u32) -> Vec3<S> {
+        let c = S::from_i32(2 * col.min(MAX_IMAGE_SIDE) as i32 + 1);
+        let r = S::from_i32(2 * row.min(MAX_IMAGE_SIDE) as i32 + 1);
+        self.film.point(Vec3::new(c, r, S::ZERO))
+    }
+
+    /// The chief ray of a film point: from the lens centre E along
+    /// `−N n + u_c u + v_r v`, normalised.
+    #[inline]
+    pub fn chief_ray(&self, p_film: Vec3<S>) -> Ray<S> {
+        Ray {
+            origin: self.to_world.point(Vec3::ZERO),
+            dir: self.to_world.vector(p_film).normalize(),
+        }
+    }
+
+    /// The ray from the lens point `lens = (s_x, s_y)` (Q1.15, on the unit disk)
+    /// towards this film point's point in focus.
+    #[inline]
+    pub fn lens_ray(&self, p_film: Vec3<S>, lens: (i32, i32)) -> Ray<S> {
+        let (sx, sy) = (S::from_q15(lens.0), S::from_q15(lens.1));
+        // Lens point on the disk of radius a, camera frame.
+        let p_lens = Vec3::new(sx.mul(self.lens_radius), sy.mul(self.lens_radius), S::ZERO);
+        // p_focus − p_lens, divided by m: p_film − p_lens / m.
+        let d_cam = p_film - Vec3::new(sx.mul(self.lens_tilt), sy.mul(self.lens_tilt), S::ZERO);
+        Ray {
+            origin: self.to_world.point(p_lens),
+            dir: self.to_world.vector(d_cam).normalize(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fixed::types::I16F16;
+
+    #[test]
+    fn centre_pixel_chief_ray_looks_down_the_axis() {
+        let params = CameraParams::default();
+        // An odd size has a pixel whose centre is the film's centre.
+        let cam = Camera::<I16F16>::new(&params, 641, 481);
+        let ray = cam.chief_ray(cam.p_film(320, 240));
+        let d = ray.dir.to_f64();
+        assert!(d[0].abs() < 1e-4 && d[1].abs() < 1e-4 && (d[2] + 1.0).abs() < 1e-4, "{d:?}");
+        assert_eq!(ray.origin.to_f64(), [0.0; 3]);
+    }
+
+    #[test]
+    fn corner_film_points_follow_the_spec() {
+        let params = CameraParams::default();
+        let cam = Camera::<f32>::new(&params, 640, 480);
+        // Pixel (0, 0): u = −W + p/2, v = H − p/2, with p = 10/640, H = p·480/2.
+        let p = 10.0 / 640.0;
+        let f = cam.p_film(0, 0).to_f64();
+        assert!((f[0] - (-5.0 + p / 2.0)).abs() < 1e-6);
+        assert!((f[1] - (p * 240.0 - p / 2.0)).abs() < 1e-6);
+        assert_eq!(f[2], -8.0);
+        // The picture is upright: row 0 looks up, column 0 looks left.
+        let d = cam.chief_ray(cam.p_film(0, 0)).dir.to_f64();
+        assert!(d[0] < 0.0 && d[1] > 0.0);
+    }
+
+    #[test]
+    fn all_lens_rays_of_a_pixel_meet_at_the_focus_depth() {
+        // N = 8, f = 4: the plane in focus lies at depth 8.
+        let params = CameraParams {
+            radius: 0.4,
+            ..CameraParams::default()
+        };
+        assert_eq!(params.focus_depth(), 8.0);
+        let cam = Camera::<I16F16>::new(&params, 160, 120);
+        let film = cam.p_film(30, 100);
+        let chief = cam.chief_ray(film);
+        // Where the chief ray reaches z = −8.
+        let at_focus = |r: Ray<I16F16>| {
+            let (o, d) = (r.origin.to_f64(), r.dir.to_f64());
+            let t = (-8.0 - o[2]) / d[2];
+            [o[0] + t * d[0], o[1] + t * d[1]]
+        };
+        let target = at_focus(chief);
+        for lens in [(32767, 0), (-20000, 20000), (0, -32000), (1000, 2000)] {
+            let r = cam.lens_ray(film, lens);
+            let o = r.origin.to_f64();
+            assert!((o[0] * o[0] + o[1] * o[1]).sqrt() <= 0.4 + 1e-4);
+            let hit = at_focus(r);
+            assert!((hit[0] - target[0]).abs() < 2e-3 && (hit[1] - target[1]).abs() < 2e-3, "{hit:?} vs {target:?}");
+        }
+        // And they do not meet at another depth: at z = −4 they spread out.
+        let r = cam.lens_ray(film, (32767, 0));
+        let (o, d) = (r.origin.to_f64(), r.dir.to_f64());
+        let t = (-4.0 - o[2]) / d[2];
+        let (c, cd) = (chief.origin.to_f64(), chief.dir.to_f64());
+        let tc = (-4.0 - c[2]) / cd[2];
+        assert!(((o[0] + t * d[0]) - (c[0] + tc * cd[0])).abs() > 0.1);
+    }
+
+    #[test]
+    fn basis_rejects_degenerate_views() {
+        let mut p = CameraParams {
+            look: [0.0; 3],
+            ..CameraParams::default()
+        };
+        assert!(basis(&p).is_none());
+        p.look = [0.0, 2.0, 0.0];
+        assert!(basis(&p).is_none(), "up parallel to look");
+        p.look = [1.0, 0.0, 0.0];
+        let [u, v, n] = basis(&p).unwrap();
+        assert_eq!(n, [-1.0, 0.0, 0.0]);
+        assert_eq!(v, [0.0, 1.0, 0.0]);
+        assert_eq!(u, [0.0, 0.0, 1.0], "looking along +x, right is +z");
+    }
+}

@@ -1,0 +1,229 @@
+//! Lens samples from a linear-feedback shift register, in integers.
+//!
+//! The Q16.16 renderer and the f32 reference must draw the very same lens
+//! points, and a pixel's points must depend on that pixel alone (so rows can be
+//! rendered in any order, on any number of threads or machines). So sampling
+//! is pure integer work: a 32-bit Galois LFSR seeded from the pixel's
+//! coordinates, and rejection sampling of the unit disk in Q1.15.
+//!
+//! # The shifted-copy pitfall
+//!
+//! Successive states of a shift register are shifted copies of each other: take
+//! x from one state and y from the next, and the points fall on a few lines.
+//! [`Lfsr::next_u16`] therefore clocks the register 32 times per draw, so every
+//! coordinate is made of bits no earlier coordinate contained. The tests measure
+//! the result: correlation of x and y near 0, and equal counts in equal-area cells.
+
+/// Feedback taps of x³² + x²² + x² + x + 1 for a right-shifting Galois register
+/// (maximal: period 2³² − 1).
+pub const TAPS: u32 = 0x8020_0003;
+
+/// A 32-bit Galois LFSR. Its state is never 0.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Lfsr {
+    state: u32,
+}
+
+impl Lfsr {
+    /// A register started at `seed` (0 is replaced by 1: 0 is the one fixed point).
+    pub const fn new(seed: u32) -> Self {
+        Lfsr {
+            state: if seed == 0 { 1 } else { seed },
+        }
+    }
+
+    /// The register seeded for pixel (`col`, `row`) and `pass` (0 for a
+    /// plain render): a fixed integer hash, so every pixel starts elsewhere in
+    /// the sequence.
+    pub fn for_pixel(col: u32, row: u32, pass: u32) -> Self {
+        // A murmur3-style finaliser spreads neighbouring pixels far apart.
+        let mut h = col.wrapping_mul(0x9E37_79B1) ^ row.wrapping_mul(0x85EB_CA77) ^ pass.wrapping_mul(0xC2B2_AE3D);
+        h ^= h >> 16;
+        h = h.wrapping_mul(0x7FEB_352D);
+        h ^= h >> 15;
+        h = h.wrapping_mul(0x846C_A68B);
+        h ^= h >> 16;
+        Lfsr::new(h)
+    }
+
+    /// The current state.
+    pub const fn state(&self) -> u32 {
+        self.state
+    }
+
+    /// Clocks the register once and returns the new state.
+    #[inline]
+    pub fn step(&mut self) -> u32 {
+        let lsb = self.state & 1;
+        self.state >>= 1;
+        // Branch-free feedback: all-ones mask when the bit shifted out was 1.
+        self.state ^= lsb.wrapping_neg() & TAPS;
+        self.state
+    }
+
+    /// 16 fresh bits: clocks 32 times so the draw shares no bit with the last one.
+    #[inline]
+    pub fn next_u16(&mut self) -> u16 {
+        for _ in 0..32 {
+            self.step();
+        }
+        (self.state >> 16) as u16
+    }
+
+    /// A point uniform on the unit disk, in Q1.15 (`(x, y)` with
+    /// `x² + y² < 2³⁰`), by rejection from the square.
+    ///
+    /// After 64 rejections in a row (probability 0.215⁶⁴) it returns the
+    /// centre, so the call always ends.
+    pub fn disk_q15(&mut self) -> (i32, i32) {
+        for _ in 0..64 {
+            let x = self.next_u16() as i16 as i32;
+            let y = self.next_u16() as i16 as i32;
+            if x * x + y * y < 1 << 30 {
+                return (x, y);
+            }
+        }
+        (0, 0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn period_is_maximal() {
+        // A maximal 32-bit register returns to its start after 2^32 - 1 steps and
+        // not before: check it doesn't return within the first 2^20 steps, and
+        // that 2^32 - 1 steps is a multiple of the period by checking the
+        // polynomial's order with fast exponentiation of the step map.
+        let mut r = Lfsr::new(1);
+        for _ in 0..(1u32 << 20) {
+            assert_ne!(r.step(), 1);
+        }
+        // The step is linear over GF(2): represent it as a 32x32 bit matrix (columns
+        // = images of basis vectors) and raise it to 2^32 - 1 and to (2^32-1)/p for
+        // each prime p of 2^32 - 1 = 3 * 5 * 17 * 257 * 65537.
+        let step_col = |v: u32| {
+            let mut r = Lfsr { state: v };
+            r.step()
+        };
+        let m: [u32; 32] = core::array::from_fn(|i| step_col(1 << i));
+        let mul = |a: &[u32; 32], b: &[u32; 32]| -> [u32; 32] {
+            core::array::from_fn(|i| {
+                let col = b[i];
+                let mut out = 0;
+                for (j, aj) in a.iter().enumerate() {
+                    if col >> j & 1 == 1 {
+                        out ^= aj;
+                    }
+                }
+                out
+            })
+        };
+        let pow = |e: u64| {
+            let mut result: [u32; 32] = core::array::from_fn(|i| 1 << i);
+            let mut base = m;
+            let mut e = e;
+            while e > 0 {
+                if e & 1 == 1 {
+                    result = mul(&result, &base);
+                }
+                base = mul(&base, &base);
+                e >>= 1;
+            }
+            result
+        };
+        let identity: [u32; 32] = core::array::from_fn(|i| 1 << i);
+        let n = (1u64 << 32) - 1;
+        assert_eq!(pow(n), identity);
+        for p in [3u64, 5, 17, 257, 65537] {
+            assert_ne!(pow(n / p), identity, "period divides (2^32-1)/{p}");
+        }
+    }
+
+    #[test]
+    fn never_zero_and_zero_seed_is_replaced() {
+        let mut r = Lfsr::new(0);
+        assert_eq!(r.state(), 1);
+        for _ in 0..10_000 {
+            assert_ne!(r.step(), 0);
+        }
+    }
+
+    /// 10^5 samples from consecutive pixels' registers.
+    fn samples() -> impl Iterator<Item = (f64, f64)> {
+        (0..100_000u32).map(|i| {
+            let mut r = Lfsr::for_pixel(i % 320, i / 320, 0);
+            let (x, y) = r.disk_q15();
+            (x as f64 / 32768.0, y as f64 / 32768.0)
+        })
+    }
+
+    #[test]
+    fn disk_samples_are_uncorrelated() {
+        let n = 100_000.0;
+        let (mut sx, mut sy, mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for (x, y) in samples() {
+            assert!(x * x + y * y < 1.0);
+            sx += x;
+            sy += y;
+            sxx += x * x;
+            syy += y * y;
+            sxy += x * y;
+        }
+        let cov = sxy / n - sx / n * sy / n;
+        let corr = cov / ((sxx / n - (sx / n).powi(2)).sqrt() * (syy / n - (sy / n).powi(2)).sqrt());
+        assert!(corr.abs() < 0.02, "correlation {corr}");
+        // Also within one pixel's stream: successive draws of the same register.
+        let mut r = Lfsr::for_pixel(7, 9, 0);
+        let pts: std::vec::Vec<(f64, f64)> = (0..100_000)
+            .map(|_| {
+                let (x, y) = r.disk_q15();
+                (x as f64, y as f64)
+            })
+            .collect();
+        let m = |f: &dyn Fn(&(f64, f64)) -> f64| pts.iter().map(f).sum::<f64>() / n;
+        let (mx, my) = (m(&|p| p.0), m(&|p| p.1));
+        let c = m(&|p| (p.0 - mx) * (p.1 - my)) / (m(&|p| (p.0 - mx).powi(2)) * m(&|p| (p.1 - my).powi(2))).sqrt();
+        assert!(c.abs() < 0.02, "within-stream correlation {c}");
+    }
+
+    #[test]
+    fn disk_samples_fill_equal_area_cells_evenly() {
+        // 4 rings of equal area times 8 sectors: 32 cells of 3125 expected each.
+        let mut counts = [0u32; 32];
+        for (x, y) in samples() {
+            let r2 = x * x + y * y;
+            let ring = ((r2 * 4.0) as usize).min(3);
+            let a = y.atan2(x) + core::f64::consts::PI;
+            let sector = ((a / (2.0 * core::f64::consts::PI) * 8.0) as usize).min(7);
+            counts[ring * 8 + sector] += 1;
+        }
+        let e = 100_000.0 / 32.0;
+        let chi2: f64 = counts.iter().map(|&c| (c as f64 - e).powi(2) / e).sum();
+        // 31 degrees of freedom: the 99.9th percentile is 61.1.
+        assert!(chi2 < 61.1, "chi-square {chi2}, counts {counts:?}");
+    }
+
+    #[test]
+    fn naive_successive_states_would_fail_the_correlation_test() {
+        // The pitfall the docs warn of, shown: x and y from two successive states
+        // (one clock apart) are strongly correlated, so the test above has teeth.
+        let mut r = Lfsr::new(12345);
+        let n = 100_000.0;
+        let (mut sx, mut sy, mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for _ in 0..100_000 {
+            let x = (r.step() >> 16) as i16 as f64;
+            let y = (r.step() >> 16) as i16 as f64;
+            sx += x;
+            sy += y;
+            sxx += x * x;
+            syy += y * y;
+            sxy += x * y;
+        }
+        let cov = sxy / n - sx / n * sy / n;
+        let corr = cov / ((sxx / n - (sx / n).powi(2)).sqrt() * (syy / n - (sy / n).powi(2)).sqrt());
+        assert!(corr.abs() > 0.1, "naive correlation only {corr}");
+    }
+}

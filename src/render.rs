@@ -1,0 +1,148 @@
+//! Rendering: a pixel, a scanline, or a whole image into a `DrawTarget`.
+//!
+//! There is no frame buffer anywhere: [`Renderer::render_row`] fills one row
+//! of colours, and [`render`] streams each row into the target with one
+//! `fill_contiguous` call, computing pixels as the target consumes them.
+
+use crate::camera::Camera;
+use crate::lfsr::Lfsr;
+use crate::scalar::Scalar;
+use crate::scene::Scene;
+use crate::vec3::Vec3;
+use embedded_graphics_core::draw_target::DrawTarget;
+use embedded_graphics_core::geometry::{Point, Size};
+use embedded_graphics_core::pixelcolor::Rgb888;
+use embedded_graphics_core::primitives::Rectangle;
+
+/// A scene and a camera set up for one image size: renders pixels.
+///
+/// Every pixel depends only on the scene, the image size and the pixel's own
+/// position, so rows may be rendered in any order or in parallel.
+#[derive(Clone, Debug)]
+pub struct Renderer<'a, S: Scalar> {
+    scene: &'a Scene<S>,
+    camera: Camera<S>,
+    samples: u32,
+}
+
+impl<'a, S: Scalar> Renderer<'a, S> {
+    /// A renderer for `cols` × `rows` pixels with the scene's own sample count.
+    pub fn new(scene: &'a Scene<S>, cols: u32, rows: u32) -> Self {
+        Renderer {
+            scene,
+            camera: Camera::new(&scene.camera, cols, rows),
+            samples: scene.camera.samples.max(1),
+        }
+    }
+
+    /// Overrides the lens samples per pixel (clamped to 1..=65535).
+    pub fn with_samples(mut self, samples: u32) -> Self {
+        self.samples = samples.clamp(1, 65535);
+        self
+    }
+
+    /// The camera in use.
+    pub fn camera(&self) -> &Camera<S> {
+        &self.camera
+    }
+
+    /// Rays cast per pixel: 1 for a pinhole camera, else the sample count.
+    pub fn rays_per_pixel(&self) -> u32 {
+        if self.camera.is_pinhole() {
+            1
+        } else {
+            self.samples
+        }
+    }
+
+    /// The mean colour of pixel (`col`, `row`), unclamped.
+    pub fn pixel_colour(&self, col: u32, row: u32) -> Vec3<S> {
+        let p_film = self.camera.p_film(col, row);
+        if self.camera.is_pinhole() {
+            let ray = self.camera.chief_ray(p_film);
+            return self.scene.trace(ray.origin, ray.dir);
+        }
+        // The pixel's own register: samples independent of row order and threads.
+        let mut lfsr = Lfsr::for_pixel(col, row, 0);
+        let mut acc = [S::acc_zero(); 3];
+        for _ in 0..self.samples {
+            let ray = self.camera.lens_ray(p_film, lfsr.disk_q15());
+            let c = self.scene.trace(ray.origin, ray.dir);
+            acc = [S::acc_add(acc[0], c.x), S::acc_add(acc[1], c.y), S::acc_add(acc[2], c.z)];
+        }
+        Vec3::new(
+            S::acc_mean(acc[0], self.samples),
+            S::acc_mean(acc[1], self.samples),
+            S::acc_mean(acc[2], self.samples),
+        )
+    }
+
+    /// Pixel (`col`, `row`) as 8-bit RGB: each channel clamped and `round(255 v)`.
+    pub fn pixel(&self, col: u32, row: u32) -> Rgb888 {
+        let c = self.pixel_colour(col, row);
+        Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8())
+    }
+
+    /// Fills `out` with row `row`, from column 0 (`out.len()` pixels at most
+    /// the image width; extra entries are left untouched).
+    pub fn render_row(&self, row: u32, out: &mut [Rgb888]) {
+        for (col, px) in out.iter_mut().take(self.camera.cols() as usize).enumerate() {
+            *px = self.pixel(col as u32, row);
+        }
+    }
+}
+
+/// Renders `scene` into `target`, one `fill_contiguous` call per row.
+///
+/// The image is the target's bounding box (its size, from its top-left
+/// corner); the target's colour type converts
+/// from [`Rgb888`] (Rgb565 and others through embedded-graphics' own
+/// conversions). An empty target draws nothing.
+///
+/// # Errors
+///
+/// Only the target's own errors.
+///
+/// # Panics
+///
+/// Never.
+pub fn render<S, D>(scene: &Scene<S>, target: &mut D) -> Result<(), D::Error>
+where
+    S: Scalar,
+    D: DrawTarget,
+    D::Color: From<Rgb888>,
+{
+    let area = target.bounding_box();
+    if area.size.width == 0 || area.size.height == 0 {
+        return Ok(());
+    }
+    let renderer = Renderer::new(scene, area.size.width, area.size.height);
+    render_with(&renderer, target)
+}
+
+/// Renders with a prepared [`Renderer`] (e.g. with a sample override) into
+/// `target`, one `fill_contiguous` per row: the renderer's image size, placed
+/// at the top-left corner of the target's bounding box.
+///
+/// # Errors
+///
+/// Only the target's own errors.
+///
+/// # Panics
+///
+/// Never.
+pub fn render_with<S, D>(renderer: &Renderer<'_, S>, target: &mut D) -> Result<(), D::Error>
+where
+    S: Scalar,
+    D: DrawTarget,
+    D::Color: From<Rgb888>,
+{
+    let origin = target.bounding_box().top_left;
+    let cols = renderer.camera().cols();
+    for row in 0..renderer.camera().rows() {
+        let top_left = origin + Point::new(0, row as i32);
+        let area = Rectangle::new(top_left, Size::new(cols, 1));
+        target.fill_contiguous(&area, (0..cols).map(|col| D::Color::from(renderer.pixel(col, row))))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,573 @@
+//! The number trait the whole renderer is written over.
+//!
+//! [`Scalar`] is implemented for [`I16F16`] (Q16.16, the renderer that runs on
+//! microcontrollers without an FPU) and for `f32` (the reference that measures
+//! what fixed point costs). Everything from the camera to shading is written once
+//! over it, so the two renderers differ in their arithmetic and nothing else.
+//!
+//! The trait is sealed: its contract (saturation, rounding, which operations are
+//! exact) is part of the renderer's accuracy analysis, and a third type would
+//! need that analysis too.
+//!
+//! # Rules every implementation follows
+//!
+//! * No operation panics and none wraps. The Q16.16 operations saturate at the
+//!   ends of the range (±32768); a debug build with overflow checks never trips.
+//! * Division by zero gives the saturated value of the dividend's sign (0 / 0 is 0).
+//! * `sqrt` of a negative number is 0.
+//! * Set-up conversions (`from_f64`) round to nearest; they run once per scene.
+//! * The Q16.16 per-ray operations use only integer instructions.
+
+use fixed::types::I16F16;
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for fixed::types::I16F16 {}
+    impl Sealed for f32 {}
+}
+
+/// The number type of a renderer: Q16.16 [`I16F16`] or `f32`.
+///
+/// See the [module docs](self) for the rules all implementations follow.
+pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + sealed::Sealed + 'static {
+    /// 0.
+    const ZERO: Self;
+    /// 1.
+    const ONE: Self;
+    /// The largest finite value; "no hit yet" and saturated results.
+    const MAX: Self;
+    /// Smallest ray parameter that counts as a hit (about 2⁻¹⁰ world units):
+    /// keeps a reflected or shadow ray from hitting the surface it left.
+    const EPSILON: Self;
+    /// Short human name of the number type ("Q16.16", "f32").
+    const NAME: &'static str;
+
+    /// One row of an affine matrix, stored more precisely than `Self`
+    /// (Q16.16 keeps up to 30 fraction bits; see [`Scalar::row_from_f64`]).
+    type Row: Copy + core::fmt::Debug;
+    /// Accumulator for sums of many colours (a pixel's samples).
+    type Acc: Copy + core::fmt::Debug;
+
+    /// Rounds an `f64` to the nearest value of this type, saturating. Set-up only.
+    fn from_f64(x: f64) -> Self;
+    /// The exact value as `f64` (for tests and reports; never on the per-ray path).
+    fn to_f64(self) -> f64;
+    /// Converts a small integer exactly (|i| < 32768 for Q16.16; saturates beyond).
+    fn from_i32(i: i32) -> Self;
+    /// Converts a Q1.15 lens-sample coordinate `i / 32768` exactly.
+    fn from_q15(i: i32) -> Self;
+
+    /// `self + o`, saturating.
+    fn add(self, o: Self) -> Self;
+    /// `self - o`, saturating.
+    fn sub(self, o: Self) -> Self;
+    /// `self * o`, rounded to nearest, saturating.
+    fn mul(self, o: Self) -> Self;
+    /// `self / o`, saturating; division by zero saturates (0 / 0 = 0).
+    fn div(self, o: Self) -> Self;
+    /// `-self`, saturating.
+    fn neg(self) -> Self;
+    /// `|self|`, saturating.
+    fn abs(self) -> Self;
+    /// Square root; 0 for negative input. Correctly rounded for `f32`,
+    /// within one unit in the last place for Q16.16.
+    fn sqrt(self) -> Self;
+    /// `self ^ e` for a base in [0, 1] and an exponent `e >= 0`
+    /// (the Phong power); `0 ^ 0 = 1`.
+    fn powf(self, e: Self) -> Self;
+    /// The largest integer not above `self`.
+    fn floor_i32(self) -> i32;
+
+    /// Length of a 3-vector, computed without intermediate overflow.
+    fn length3(v: [Self; 3]) -> Self;
+    /// Unit vector along `v`, and the length of `v`. A zero vector gives zero.
+    fn normalize3(v: [Self; 3]) -> ([Self; 3], Self);
+    /// `|v|² <= r²`, decided exactly (no intermediate overflow).
+    fn within(v: [Self; 3], r: Self) -> bool;
+
+    /// Builds a matrix row `(a, b, c, t)` from its exact `f64` entries.
+    fn row_from_f64(r: [f64; 4]) -> Self::Row;
+    /// `a·x + b·y + c·z (+ t if affine)`, with one rounding at the end.
+    fn row_apply(row: &Self::Row, v: [Self; 3], affine: bool) -> Self;
+
+    /// The empty accumulator.
+    fn acc_zero() -> Self::Acc;
+    /// `acc + x`.
+    fn acc_add(acc: Self::Acc, x: Self) -> Self::Acc;
+    /// `acc / n`, saturating (n > 0).
+    fn acc_mean(acc: Self::Acc, n: u32) -> Self;
+
+    /// A colour channel clamped to [0, 1] and rounded to 8 bits: `round(255 v)`.
+    fn to_u8(self) -> u8;
+
+    /// `min(self, o)`.
+    #[inline]
+    fn min(self, o: Self) -> Self {
+        if o < self {
+            o
+        } else {
+            self
+        }
+    }
+    /// `max(self, o)`.
+    #[inline]
+    fn max(self, o: Self) -> Self {
+        if o > self {
+            o
+        } else {
+            self
+        }
+    }
+}
+
+/// Q16.16 matrix row: entries `m[i] · 2^-shift` with `|m[i]| <= 2^30`, and the
+/// translation at scale `2^(shift + 16)`, so `row · v` is an exact i64 sum.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct FixedRow {
+    m: [i32; 3],
+    t: i64,
+    shift: u32,
+}
+
+/// Saturates an i64 to the i32 range.
+#[inline]
+fn sat32(x: i64) -> i32 {
+    if x > i32::MAX as i64 {
+        i32::MAX
+    } else if x < i32::MIN as i64 {
+        i32::MIN
+    } else {
+        x as i32
+    }
+}
+
+/// Rounds `x / 2^s` to nearest (ties up), for `0 < s < 63`.
+#[inline]
+fn shr_round(x: i64, s: u32) -> i64 {
+    (x >> s) + ((x >> (s - 1)) & 1)
+}
+
+/// Integer square root of a u64 (floor).
+#[inline]
+pub(crate) fn isqrt_u64(n: u64) -> u64 {
+    if n == 0 {
+        return 0;
+    }
+    // Classic digit-by-digit method: one result bit per step, no division.
+    let mut rem = n;
+    let mut root = 0u64;
+    let mut bit = 1u64 << ((63 - n.leading_zeros()) & !1);
+    while bit != 0 {
+        if rem >= root + bit {
+            rem -= root + bit;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+        bit >>= 2;
+    }
+    root
+}
+
+/// `log2(x)` of a Q16.16 raw value `x > 0`, in Q16.16.
+fn fixed_log2(raw: i32) -> i64 {
+    let raw = raw as u32;
+    let msb = 31 - raw.leading_zeros();
+    // Mantissa in Q1.31: value in [1, 2).
+    let mut m: u64 = ((raw as u64) << (31 - msb)) & 0xFFFF_FFFF;
+    let mut frac: i64 = 0;
+    for i in (0..16).rev() {
+        // Squaring doubles the log; a value >= 2 means the next bit is 1.
+        m = (m * m) >> 31;
+        if m >= 1 << 32 {
+            m >>= 1;
+            frac |= 1 << i;
+        }
+    }
+    ((msb as i64 - 16) << 16) + frac
+}
+
+/// `2^(-2^-j)` for j = 1..=16 in Q2.30, rounded: the factors of `2^-f` for
+/// each set bit of a 16-bit fraction f.
+const EXP2_NEG: [u32; 16] = [
+    759250125, // 2^(-1/2)
+    902905651, // 2^(-1/4)
+    984625594, // 2^(-1/8)
+    1028218693, // 2^(-1/16)
+    1050733751, // 2^(-1/32)
+    1062175491, // 2^(-1/64)
+    1067942999, // 2^(-1/128)
+    1070838486, // 2^(-1/256)
+    1072289173, // 2^(-1/512)
+    1073015252, // 2^(-1/1024)
+    1073378477, // 2^(-1/2048)
+    1073560135, // 2^(-1/4096)
+    1073650976, // 2^(-1/8192)
+    1073696399, // 2^(-1/16384)
+    1073719111, // 2^(-1/32768)
+    1073730468, // 2^(-1/65536)
+];
+
+/// `2^(-y)` for `y >= 0` in Q16.16 raw (i64), result as Q16.16 raw.
+fn fixed_exp2_neg(y: i64) -> i32 {
+    let int = y >> 16;
+    if int >= 17 {
+        return 0;
+    }
+    let frac = (y & 0xFFFF) as u32;
+    // Product of 2^(-2^-j) over the set bits of the fraction, in Q2.30.
+    let mut acc: u64 = 1 << 30;
+    for (j, &c) in EXP2_NEG.iter().enumerate() {
+        if frac & (1 << (15 - j)) != 0 {
+            acc = (acc * c as u64 + (1 << 29)) >> 30;
+        }
+    }
+    // Q2.30 -> Q16.16 with the integer part as a further shift, rounded.
+    let s = 14 + int as u32;
+    ((acc + (1 << (s - 1))) >> s) as i32
+}
+
+impl Scalar for I16F16 {
+    const ZERO: Self = I16F16::ZERO;
+    const ONE: Self = I16F16::ONE;
+    const MAX: Self = I16F16::MAX;
+    const EPSILON: Self = I16F16::from_bits(64);
+    const NAME: &'static str = "Q16.16";
+    type Row = FixedRow;
+    type Acc = i64;
+
+    fn from_f64(x: f64) -> Self {
+        let r = x * 65536.0;
+        // NaN maps to 0; everything else rounds to nearest and saturates.
+        let bits = if r != r {
+            0
+        } else if r >= i32::MAX as f64 {
+            i32::MAX
+        } else if r <= i32::MIN as f64 {
+            i32::MIN
+        } else {
+            let f = r + 0.5;
+            let t = f as i64;
+            (if (t as f64) > f { t - 1 } else { t }) as i32
+        };
+        I16F16::from_bits(bits)
+    }
+    fn to_f64(self) -> f64 {
+        self.to_bits() as f64 / 65536.0
+    }
+    #[inline]
+    fn from_i32(i: i32) -> Self {
+        I16F16::from_bits(sat32((i as i64) << 16))
+    }
+    #[inline]
+    fn from_q15(i: i32) -> Self {
+        I16F16::from_bits(sat32((i as i64) << 1))
+    }
+    #[inline]
+    fn add(self, o: Self) -> Self {
+        self.saturating_add(o)
+    }
+    #[inline]
+    fn sub(self, o: Self) -> Self {
+        self.saturating_sub(o)
+    }
+    #[inline]
+    fn mul(self, o: Self) -> Self {
+        let p = self.to_bits() as i64 * o.to_bits() as i64;
+        I16F16::from_bits(sat32(shr_round(p, 16)))
+    }
+    #[inline]
+    fn div(self, o: Self) -> Self {
+        let (a, b) = (self.to_bits() as i64, o.to_bits() as i64);
+        if b == 0 {
+            return match a {
+                0 => I16F16::ZERO,
+                a if a > 0 => I16F16::MAX,
+                _ => I16F16::MIN,
+            };
+        }
+        // Round to nearest on magnitudes, then restore the sign.
+        let (n, d) = ((a << 16).unsigned_abs(), b.unsigned_abs());
+        let q = ((n + d / 2) / d) as i64;
+        let q = if (a < 0) != (b < 0) { -q } else { q };
+        I16F16::from_bits(sat32(q))
+    }
+    #[inline]
+    fn neg(self) -> Self {
+        self.saturating_neg()
+    }
+    #[inline]
+    fn abs(self) -> Self {
+        self.saturating_abs()
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        let b = self.to_bits();
+        if b <= 0 {
+            return I16F16::ZERO;
+        }
+        // sqrt(b / 2^16) * 2^16 = sqrt(b * 2^16), rounded to nearest.
+        let n = (b as u64) << 16;
+        let r = isqrt_u64(n);
+        let r = if n - r * r > r { r + 1 } else { r };
+        I16F16::from_bits(r as i32)
+    }
+    fn powf(self, e: Self) -> Self {
+        if e.to_bits() <= 0 {
+            return I16F16::ONE;
+        }
+        let b = self.to_bits();
+        if b <= 0 {
+            return I16F16::ZERO;
+        }
+        if b >= 1 << 16 {
+            return I16F16::ONE;
+        }
+        // x^e = 2^(e·log2 x); log2 x < 0 here.
+        let l = -fixed_log2(b);
+        let y = (l * e.to_bits() as i64) >> 16;
+        I16F16::from_bits(fixed_exp2_neg(y))
+    }
+    #[inline]
+    fn floor_i32(self) -> i32 {
+        self.to_bits() >> 16
+    }
+    fn length3(v: [Self; 3]) -> Self {
+        let s: u64 = v
+            .iter()
+            .map(|x| {
+                let b = x.to_bits() as i64;
+                (b * b) as u64
+            })
+            .sum();
+        // sqrt of a Q32.32 sum is the Q16.16 length; rounded.
+        let r = isqrt_u64(s);
+        let r = if s - r * r > r { r + 1 } else { r };
+        I16F16::from_bits(sat32(r as i64))
+    }
+    fn normalize3(v: [Self; 3]) -> ([Self; 3], Self) {
+        let len = Self::length3(v);
+        let l = len.to_bits() as i64;
+        if l == 0 {
+            return ([I16F16::ZERO; 3], I16F16::ZERO);
+        }
+        // One division for a Q2.46-ish reciprocal, then three exact-enough multiplies.
+        let recip = (1i64 << 46) / l;
+        let unit = v.map(|x| {
+            let p = x.to_bits() as i64 * recip;
+            I16F16::from_bits(sat32(shr_round(p, 30)))
+        });
+        (unit, len)
+    }
+    fn within(v: [Self; 3], r: Self) -> bool {
+        let s: u64 = v
+            .iter()
+            .map(|x| {
+                let b = x.to_bits() as i64;
+                (b * b) as u64
+            })
+            .sum();
+        let rb = r.to_bits().max(0) as i64;
+        s <= (rb * rb) as u64
+    }
+    fn row_from_f64(r: [f64; 4]) -> FixedRow {
+        let mut big = 0.0f64;
+        for x in &r[..3] {
+            let a = if *x < 0.0 { -*x } else { *x };
+            if a > big {
+                big = a;
+            }
+        }
+        let t_abs = if r[3] < 0.0 { -r[3] } else { r[3] };
+        // The largest shift (at most 30) that keeps entries within 2^30 and the
+        // translation within 2^60 at scale 2^(shift+16).
+        let mut shift = 30u32;
+        while shift > 0
+            && (big * pow2(shift) > (1u64 << 30) as f64
+                || t_abs * pow2(shift + 16) > (1u64 << 60) as f64)
+        {
+            shift -= 1;
+        }
+        let scale = pow2(shift);
+        let round = |x: f64| -> f64 {
+            let f = x + 0.5;
+            let t = f as i64 as f64;
+            if t > f {
+                t - 1.0
+            } else {
+                t
+            }
+        };
+        let clamp = |x: f64, lim: f64| if x > lim { lim } else if x < -lim { -lim } else { x };
+        FixedRow {
+            m: [
+                clamp(round(r[0] * scale), (1u64 << 30) as f64) as i32,
+                clamp(round(r[1] * scale), (1u64 << 30) as f64) as i32,
+                clamp(round(r[2] * scale), (1u64 << 30) as f64) as i32,
+            ],
+            t: clamp(round(r[3] * pow2(shift + 16)), (1u64 << 60) as f64) as i64,
+            shift,
+        }
+    }
+    #[inline]
+    fn row_apply(row: &FixedRow, v: [Self; 3], affine: bool) -> Self {
+        // Each product <= 2^61 and t <= 2^60: the sum stays below 2^63: no overflow.
+        let mut s = row.m[0] as i64 * v[0].to_bits() as i64
+            + row.m[1] as i64 * v[1].to_bits() as i64
+            + row.m[2] as i64 * v[2].to_bits() as i64;
+        if affine {
+            s += row.t;
+        }
+        let q = if row.shift == 0 { s } else { shr_round(s, row.shift) };
+        I16F16::from_bits(sat32(q))
+    }
+    #[inline]
+    fn acc_zero() -> i64 {
+        0
+    }
+    #[inline]
+    fn acc_add(acc: i64, x: Self) -> i64 {
+        acc + x.to_bits() as i64
+    }
+    fn acc_mean(acc: i64, n: u32) -> Self {
+        let n = n.max(1) as i64;
+        let q = if acc >= 0 { (acc + n / 2) / n } else { (acc - n / 2) / n };
+        I16F16::from_bits(sat32(q))
+    }
+    #[inline]
+    fn to_u8(self) -> u8 {
+        let b = self.to_bits().clamp(0, 1 << 16) as u32;
+        ((b * 255 + (1 << 15)) >> 16) as u8
+    }
+}
+
+/// `2^e` as f64, for `e < 64`.
+fn pow2(e: u32) -> f64 {
+    (1u64 << e) as f64
+}
+
+impl Scalar for f32 {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    const MAX: Self = f32::MAX;
+    const EPSILON: Self = 1.0 / 1024.0;
+    const NAME: &'static str = "f32";
+    type Row = [f32; 4];
+    type Acc = f32;
+
+    fn from_f64(x: f64) -> Self {
+        x as f32
+    }
+    fn to_f64(self) -> f64 {
+        self as f64
+    }
+    #[inline]
+    fn from_i32(i: i32) -> Self {
+        i as f32
+    }
+    #[inline]
+    fn from_q15(i: i32) -> Self {
+        i as f32 * (1.0 / 32768.0)
+    }
+    #[inline]
+    fn add(self, o: Self) -> Self {
+        self + o
+    }
+    #[inline]
+    fn sub(self, o: Self) -> Self {
+        self - o
+    }
+    #[inline]
+    fn mul(self, o: Self) -> Self {
+        self * o
+    }
+    #[inline]
+    fn div(self, o: Self) -> Self {
+        if o == 0.0 {
+            return if self == 0.0 {
+                0.0
+            } else if self > 0.0 {
+                f32::MAX
+            } else {
+                -f32::MAX
+            };
+        }
+        self / o
+    }
+    #[inline]
+    fn neg(self) -> Self {
+        -self
+    }
+    #[inline]
+    fn abs(self) -> Self {
+        libm::fabsf(self)
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        if self <= 0.0 {
+            0.0
+        } else {
+            libm::sqrtf(self)
+        }
+    }
+    fn powf(self, e: Self) -> Self {
+        if e <= 0.0 {
+            return 1.0;
+        }
+        if self <= 0.0 {
+            return 0.0;
+        }
+        libm::powf(self, e)
+    }
+    #[inline]
+    fn floor_i32(self) -> i32 {
+        libm::floorf(self) as i32
+    }
+    fn length3(v: [Self; 3]) -> Self {
+        Scalar::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    }
+    fn normalize3(v: [Self; 3]) -> ([Self; 3], Self) {
+        let len = Self::length3(v);
+        if len == 0.0 {
+            return ([0.0; 3], 0.0);
+        }
+        (v.map(|x| x / len), len)
+    }
+    fn within(v: [Self; 3], r: Self) -> bool {
+        v[0] * v[0] + v[1] * v[1] + v[2] * v[2] <= r * r
+    }
+    fn row_from_f64(r: [f64; 4]) -> [f32; 4] {
+        r.map(|x| x as f32)
+    }
+    #[inline]
+    fn row_apply(row: &[f32; 4], v: [Self; 3], affine: bool) -> Self {
+        let s = row[0] * v[0] + row[1] * v[1] + row[2] * v[2];
+        if affine {
+            s + row[3]
+        } else {
+            s
+        }
+    }
+    #[inline]
+    fn acc_zero() -> f32 {
+        0.0
+    }
+    #[inline]
+    fn acc_add(acc: f32, x: Self) -> f32 {
+        acc + x
+    }
+    fn acc_mean(acc: f32, n: u32) -> Self {
+        acc / n.max(1) as f32
+    }
+    #[inline]
+    fn to_u8(self) -> u8 {
+        let v = if self > 1.0 {
+            1.0
+        } else if self > 0.0 {
+            self
+        } else {
+            0.0
+        };
+        (v * 255.0 + 0.5) as u8
+    }
+}

@@ -1,0 +1,357 @@
+//! A validated scene: camera parameters, objects and lights, ready to render.
+//!
+//! A [`Scene`] is built by the parser ([`Scene::parse`]) and holds everything in
+//! the number type `S` the renderer will use, except the camera's parameters,
+//! which stay exact (`f64`) until the image size is known (see
+//! [`crate::camera::Camera::new`]).
+
+use crate::scalar::Scalar;
+use crate::shape::Shape;
+use crate::transform::{Affine, Mat34};
+use crate::vec3::Vec3;
+
+/// Most objects a scene can hold (fixed capacity: no allocator).
+pub const MAX_OBJECTS: usize = 16;
+/// Most point lights a scene can hold.
+pub const MAX_LIGHTS: usize = 8;
+
+/// The camera statements of a scene, exactly as written (defaults filled in).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct CameraParams {
+    /// Film width in world units (`width`).
+    pub width: f64,
+    /// Film width / height (`aspect_ratio`): the host's default image height.
+    pub aspect_ratio: f64,
+    /// Lens-to-film distance N (`image_distance`).
+    pub image_distance: f64,
+    /// Lens centre E (`lens_position`).
+    pub lens_position: [f64; 3],
+    /// Focal length f, 0 < f < N (`focal_length`).
+    pub focal_length: f64,
+    /// Viewing direction (`look`), not zero.
+    pub look: [f64; 3],
+    /// Up direction (`up`), not parallel to `look`.
+    pub up: [f64; 3],
+    /// Lens samples per pixel (`point`), 1..=65535.
+    pub samples: u32,
+    /// Lens radius a (`radius`); 0 is a pinhole.
+    pub radius: f64,
+}
+
+impl Default for CameraParams {
+    fn default() -> Self {
+        CameraParams {
+            width: 10.0,
+            aspect_ratio: 1.33,
+            image_distance: 8.0,
+            lens_position: [0.0; 3],
+            focal_length: 4.0,
+            look: [0.0, 0.0, -1.0],
+            up: [0.0, 1.0, 0.0],
+            samples: 1,
+            radius: 0.0,
+        }
+    }
+}
+
+impl CameraParams {
+    /// Distance of the plane in focus from the lens: f·N / (N − f).
+    pub fn focus_depth(&self) -> f64 {
+        self.focal_length * self.image_distance / (self.image_distance - self.focal_length)
+    }
+}
+
+/// Reflectances and Phong exponent of a surface.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Material<S> {
+    /// Ambient reflectance `Ka`.
+    pub ka: Vec3<S>,
+    /// Diffuse reflectance `Kd`.
+    pub kd: Vec3<S>,
+    /// Specular reflectance `Ks`.
+    pub ks: Vec3<S>,
+    /// Phong exponent `shine`.
+    pub shine: S,
+}
+
+/// A named material of the classic OpenGL table: Ka, Kd, Ks, shine (f64).
+pub type NamedMaterial = (&'static str, [f64; 3], [f64; 3], [f64; 3], f64);
+
+/// The named materials (`object sphere gold`); shine is 128 × the table's shininess.
+pub const MATERIALS: [NamedMaterial; 12] = [
+    ("gold", [0.24725, 0.1995, 0.0745], [0.75164, 0.60648, 0.22648], [0.628281, 0.555802, 0.366065], 51.2),
+    ("copper", [0.19125, 0.0735, 0.0225], [0.7038, 0.27048, 0.0828], [0.256777, 0.137622, 0.086014], 12.8),
+    ("silver", [0.19225, 0.19225, 0.19225], [0.50754, 0.50754, 0.50754], [0.508273, 0.508273, 0.508273], 51.2),
+    ("brass", [0.329412, 0.223529, 0.027451], [0.780392, 0.568627, 0.113725], [0.992157, 0.941176, 0.807843], 27.897),
+    ("bronze", [0.2125, 0.1275, 0.054], [0.714, 0.4284, 0.18144], [0.393548, 0.271906, 0.166721], 25.6),
+    ("chrome", [0.25, 0.25, 0.25], [0.4, 0.4, 0.4], [0.774597, 0.774597, 0.774597], 76.8),
+    ("pewter", [0.105882, 0.058824, 0.113725], [0.427451, 0.470588, 0.541176], [0.333333, 0.333333, 0.521569], 9.84615),
+    ("emerald", [0.0215, 0.1745, 0.0215], [0.07568, 0.61424, 0.07568], [0.633, 0.727811, 0.633], 76.8),
+    ("jade", [0.135, 0.2225, 0.1575], [0.54, 0.89, 0.63], [0.316228, 0.316228, 0.316228], 12.8),
+    ("ruby", [0.1745, 0.01175, 0.01175], [0.61424, 0.04136, 0.04136], [0.727811, 0.626959, 0.626959], 76.8),
+    ("pearl", [0.25, 0.20725, 0.20725], [1.0, 0.829, 0.829], [0.296648, 0.296648, 0.296648], 11.264),
+    ("obsidian", [0.05375, 0.05, 0.06625], [0.18275, 0.17, 0.22525], [0.332741, 0.328634, 0.346435], 38.4),
+];
+
+/// The default surface: Ka 0.2, Kd 0.8, Ks 0, shine 1.
+pub const DEFAULT_MATERIAL: NamedMaterial = ("default", [0.2; 3], [0.8; 3], [0.0; 3], 1.0);
+
+/// A shape placed in the world, with its surface.
+#[derive(Copy, Clone, Debug)]
+pub struct Object<S: Scalar> {
+    /// The shape in object space.
+    pub shape: Shape,
+    /// Surface reflectances.
+    pub material: Material<S>,
+    /// Checker square side in object space; 0 is no texture.
+    pub texture: S,
+    /// 1 / texture (0 without texture), precomputed for the per-hit floor.
+    inv_texture: S,
+    /// World → object.
+    to_object: Affine<S>,
+    /// Object normal → world normal: the inverse transpose of object → world.
+    normal_to_world: Affine<S>,
+    /// World-space bounding sphere (centre, radius); the plane has none.
+    bound: Option<(Vec3<S>, S)>,
+}
+
+/// What the exact set-up of an object is built from (the parser's output).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct ObjectDesc {
+    /// The shape.
+    pub shape: Shape,
+    /// Ka, Kd, Ks, shine.
+    pub ka: [f64; 3],
+    /// Diffuse reflectance.
+    pub kd: [f64; 3],
+    /// Specular reflectance.
+    pub ks: [f64; 3],
+    /// Phong exponent.
+    pub shine: f64,
+    /// Checker square side, 0 for none.
+    pub texture: f64,
+    /// Object → world, the transformation lines composed in order.
+    pub to_world: Mat34,
+}
+
+impl<S: Scalar> Object<S> {
+    /// Rounds an exact description to `S`. `None` if the transform is singular.
+    pub fn new(desc: &ObjectDesc) -> Option<Self> {
+        let inv = desc.to_world.inverse()?;
+        let bound = desc.shape.bound_radius().map(|r| {
+            let c = desc.to_world.apply([0.0; 3], true);
+            // The ball's image lies within the largest stretch of the linear part.
+            (Vec3::from_f64(c), S::from_f64(r * max_stretch(&desc.to_world) * (1.0 + 1e-6) + 1e-4))
+        });
+        Some(Object {
+            shape: desc.shape,
+            material: Material {
+                ka: Vec3::from_f64(desc.ka),
+                kd: Vec3::from_f64(desc.kd),
+                ks: Vec3::from_f64(desc.ks),
+                shine: S::from_f64(desc.shine),
+            },
+            texture: S::from_f64(desc.texture),
+            inv_texture: if desc.texture > 0.0 { S::from_f64(1.0 / desc.texture) } else { S::ZERO },
+            to_object: Affine::from_mat(&inv),
+            normal_to_world: Affine::from_mat(&inv.linear_transpose()),
+            bound,
+        })
+    }
+
+    /// The world-space bounding sphere (centre, radius), if the shape is bounded.
+    pub fn bound(&self) -> Option<(Vec3<S>, S)> {
+        self.bound
+    }
+
+    /// The nearest hit of the world ray `o + t d` (unit `d`) with
+    /// `t_min < t < t_max`.
+    pub fn intersect(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<Hit<S>> {
+        let Some((center, radius)) = self.bound else {
+            // Unbounded plane: t is shared by both spaces (the map is linear in t).
+            let lo = self.to_object.point(o);
+            let ld = self.to_object.vector(d);
+            let h = self.shape.intersect(lo, ld, t_min, t_max)?;
+            return Some(Hit { t: h.t, local: h });
+        };
+        // Cheap reject against the world bounding sphere.
+        let oc = center - o;
+        let tc = oc.dot(d);
+        if tc.add(radius) <= t_min || tc.sub(radius) >= t_max {
+            return None;
+        }
+        if !S::within((oc - d * tc).to_array(), radius) {
+            return None;
+        }
+        // Re-origin the ray at the sphere's edge so object-space numbers stay small.
+        let t_off = tc.sub(radius).max(S::ZERO);
+        let lo = self.to_object.point(o + d * t_off);
+        let (ld, len) = self.to_object.vector(d).normalize_len();
+        if len == S::ZERO {
+            return None;
+        }
+        let lt_min = t_min.sub(t_off).mul(len);
+        let lt_max = t_max.sub(t_off).mul(len);
+        let h = self.shape.intersect(lo, ld, lt_min, lt_max)?;
+        let t = t_off.add(h.t.div(len));
+        if t <= t_min || t >= t_max {
+            return None;
+        }
+        Some(Hit { t, local: h })
+    }
+
+    /// The world-space unit normal at a hit, turned to face against `d`.
+    pub fn normal(&self, hit: &Hit<S>, d: Vec3<S>) -> Vec3<S> {
+        let n = self.normal_to_world.vector(hit.local.n).normalize();
+        if n.dot(d) > S::ZERO {
+            -n
+        } else {
+            n
+        }
+    }
+
+    /// Whether the checkerboard darkens this hit's square.
+    pub fn in_dark_square(&self, hit: &Hit<S>) -> bool {
+        if self.inv_texture == S::ZERO {
+            return false;
+        }
+        let p = hit.local.p;
+        let k = self.inv_texture;
+        let sum = p.x.mul(k).floor_i32() as i64 + p.y.mul(k).floor_i32() as i64 + p.z.mul(k).floor_i32() as i64;
+        sum & 1 == 1
+    }
+}
+
+/// A ray's hit on an object.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Hit<S> {
+    /// World-space distance along the (unit) ray.
+    pub t: S,
+    /// The object-space hit.
+    pub local: crate::shape::LocalHit<S>,
+}
+
+/// Largest factor by which the linear part stretches a vector (its top
+/// singular value): the square root of AᵀA's largest eigenvalue, by the
+/// closed form for symmetric 3×3 matrices. Set-up only.
+fn max_stretch(m: &Mat34) -> f64 {
+    let a = &m.0;
+    let mut g = [[0.0f64; 3]; 3];
+    for (i, gi) in g.iter_mut().enumerate() {
+        for (j, x) in gi.iter_mut().enumerate() {
+            *x = (0..3).map(|k| a[k][i] * a[k][j]).sum();
+        }
+    }
+    let off = g[0][1] * g[0][1] + g[0][2] * g[0][2] + g[1][2] * g[1][2];
+    let lambda = if off == 0.0 {
+        g[0][0].max(g[1][1]).max(g[2][2])
+    } else {
+        let q = (g[0][0] + g[1][1] + g[2][2]) / 3.0;
+        let sq = |x: f64| x * x;
+        let p2 = sq(g[0][0] - q) + sq(g[1][1] - q) + sq(g[2][2] - q) + 2.0 * off;
+        let p = libm::sqrt(p2 / 6.0);
+        let b = |i: usize, j: usize| (g[i][j] - if i == j { q } else { 0.0 }) / p;
+        let det = b(0, 0) * (b(1, 1) * b(2, 2) - b(1, 2) * b(2, 1)) - b(0, 1) * (b(1, 0) * b(2, 2) - b(1, 2) * b(2, 0))
+            + b(0, 2) * (b(1, 0) * b(2, 1) - b(1, 1) * b(2, 0));
+        let r = (det / 2.0).clamp(-1.0, 1.0);
+        q + 2.0 * p * libm::cos(libm::acos(r) / 3.0)
+    };
+    libm::sqrt(lambda.max(0.0))
+}
+
+/// A point light.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Light<S> {
+    /// World position.
+    pub position: Vec3<S>,
+    /// Intensity per channel.
+    pub intensity: Vec3<S>,
+}
+
+/// A parsed, validated scene in the number type `S`.
+#[derive(Clone, Debug)]
+pub struct Scene<S: Scalar> {
+    /// The camera statements.
+    pub camera: CameraParams,
+    /// Ambient light intensity.
+    pub ambient: Vec3<S>,
+    /// Colour of rays that hit nothing.
+    pub background: Vec3<S>,
+    /// Whether shadow rays are cast.
+    pub shadows: bool,
+    /// The objects, in file order.
+    pub objects: heapless::Vec<Object<S>, MAX_OBJECTS>,
+    /// The point lights, in file order.
+    pub lights: heapless::Vec<Light<S>, MAX_LIGHTS>,
+}
+
+impl<S: Scalar> Default for Scene<S> {
+    /// The empty scene: default camera, no objects, no lights, black.
+    fn default() -> Self {
+        Scene {
+            camera: CameraParams::default(),
+            ambient: Vec3::ZERO,
+            background: Vec3::ZERO,
+            shadows: false,
+            objects: heapless::Vec::new(),
+            lights: heapless::Vec::new(),
+        }
+    }
+}
+
+impl<S: Scalar> Scene<S> {
+    /// The nearest object hit by the ray `o + t d` (unit `d`) with `t_min < t`.
+    pub fn closest_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S) -> Option<(usize, Hit<S>)> {
+        let mut best: Option<(usize, Hit<S>)> = None;
+        for (i, obj) in self.objects.iter().enumerate() {
+            let t_max = best.map_or(S::MAX, |(_, h)| h.t);
+            if let Some(h) = obj.intersect(o, d, t_min, t_max) {
+                best = Some((i, h));
+            }
+        }
+        best
+    }
+
+    /// Whether anything lies on the ray within `t_min < t < t_max`
+    /// (stops at the first hit: shadow rays).
+    pub fn any_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> bool {
+        self.objects.iter().any(|obj| obj.intersect(o, d, t_min, t_max).is_some())
+    }
+
+    /// The colour seen along the ray `o + t d` (unit `d`), unclamped.
+    pub fn trace(&self, o: Vec3<S>, d: Vec3<S>) -> Vec3<S> {
+        let Some((i, hit)) = self.closest_hit(o, d, S::EPSILON) else {
+            return self.background;
+        };
+        let obj = &self.objects[i];
+        let p = o + d * hit.t;
+        let n = obj.normal(&hit, d);
+        let v = -d;
+        let m = &obj.material;
+        let (ka, kd) = if obj.in_dark_square(&hit) {
+            let q = S::from_q15(8192);
+            (m.ka * q, m.kd * q)
+        } else {
+            (m.ka, m.kd)
+        };
+        let mut colour = ka.hadamard(self.ambient);
+        // Shadow rays leave from just above the surface, on the viewer's side.
+        let p_shadow = p + n * S::EPSILON;
+        for light in &self.lights {
+            let (l, dist) = (light.position - p).normalize_len();
+            let n_dot_l = n.dot(l);
+            if n_dot_l <= S::ZERO {
+                continue;
+            }
+            if self.shadows && self.any_hit(p_shadow, l, S::EPSILON, dist) {
+                continue;
+            }
+            let r = n * n_dot_l.add(n_dot_l) - l;
+            let r_dot_v = r.dot(v).max(S::ZERO);
+            let diffuse = kd * n_dot_l;
+            let specular = m.ks * r_dot_v.powf(m.shine);
+            colour = colour + (diffuse + specular).hadamard(light.intensity);
+        }
+        colour
+    }
+}

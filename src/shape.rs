@@ -1,0 +1,410 @@
+//! The five analytic shapes, intersected in object space.
+//!
+//! Bounded shapes (sphere, cube, cylinder, cone) are intersected by a ray whose
+//! direction is a unit vector and whose origin lies within a few units of the
+//! object's centre: the caller re-origins the ray at its object's bounding
+//! sphere first (see `Object::intersect` in [`crate::scene`]). Every square and
+//! product then stays small, which is what keeps Q16.16 accurate and in range.
+//! The plane is unbounded and takes any ray.
+
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+
+/// A shape of the scene format, in its object space.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Shape {
+    /// x² + y² + z² = 1.
+    Sphere,
+    /// z = 0, unbounded, normal +z.
+    Plane,
+    /// The box [-1, 1]³.
+    Cube,
+    /// x² + z² = 1 for -1 <= y <= 1, closed by two caps.
+    Cylinder,
+    /// Apex (0, 1, 0), base of radius 1 at y = -1, closed by the base.
+    Cone,
+}
+
+/// Where a ray meets a shape, in object space.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct LocalHit<S> {
+    /// Ray parameter of the hit (in units of the ray's direction).
+    pub t: S,
+    /// The hit point, put exactly on the face it hit where the face is flat.
+    pub p: Vec3<S>,
+    /// Outward surface normal (not necessarily unit length).
+    pub n: Vec3<S>,
+}
+
+impl Shape {
+    /// Every shape by its scene-file name.
+    pub const ALL: [(&'static str, Shape); 5] = [
+        ("sphere", Shape::Sphere),
+        ("plane", Shape::Plane),
+        ("cube", Shape::Cube),
+        ("cylinder", Shape::Cylinder),
+        ("cone", Shape::Cone),
+    ];
+
+    /// The shape's scene-file name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Shape::Sphere => "sphere",
+            Shape::Plane => "plane",
+            Shape::Cube => "cube",
+            Shape::Cylinder => "cylinder",
+            Shape::Cone => "cone",
+        }
+    }
+
+    /// Radius of the smallest origin-centred ball holding the shape
+    /// (`None` for the unbounded plane).
+    pub fn bound_radius(self) -> Option<f64> {
+        match self {
+            Shape::Sphere => Some(1.0),
+            Shape::Plane => None,
+            Shape::Cube => Some(1.732_050_807_568_877_2),
+            Shape::Cylinder | Shape::Cone => Some(core::f64::consts::SQRT_2),
+        }
+    }
+
+    /// The nearest hit with `t_min < t < t_max` of the ray `o + t d`.
+    ///
+    /// For bounded shapes `d` must be a unit vector and `o` near the shape (see
+    /// the module docs); the plane takes any `o` and `d`.
+    pub fn intersect<S: Scalar>(self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
+        match self {
+            Shape::Sphere => sphere(o, d, t_min, t_max),
+            Shape::Plane => plane(o, d, t_min, t_max),
+            Shape::Cube => cube(o, d, t_min, t_max),
+            Shape::Cylinder => cylinder(o, d, t_min, t_max),
+            Shape::Cone => cone(o, d, t_min, t_max),
+        }
+    }
+}
+
+/// The nearer of two candidate hits.
+fn nearer<S: Scalar>(a: Option<LocalHit<S>>, b: Option<LocalHit<S>>) -> Option<LocalHit<S>> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(if y.t < x.t { y } else { x }),
+        (x, None) => x,
+        (None, y) => y,
+    }
+}
+
+/// `t_min < t < t_max`.
+#[inline]
+fn inside<S: Scalar>(t: S, t_min: S, t_max: S) -> bool {
+    t > t_min && t < t_max
+}
+
+fn sphere<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
+    // Closest approach along the (unit) ray, and the perpendicular offset there.
+    let tc = o.dot(d).neg();
+    let perp = o + d * tc;
+    // Discriminant from the perpendicular distance (not b² − 4ac): small terms.
+    let h2 = S::ONE.sub(perp.dot(perp));
+    if h2 < S::ZERO {
+        return None;
+    }
+    let h = h2.sqrt();
+    let t = [tc.sub(h), tc.add(h)].into_iter().find(|&t| inside(t, t_min, t_max))?;
+    let p = o + d * t;
+    Some(LocalHit { t, p, n: p })
+}
+
+fn plane<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
+    if d.z == S::ZERO {
+        return None;
+    }
+    let t = o.z.neg().div(d.z);
+    if !inside(t, t_min, t_max) {
+        return None;
+    }
+    // On the plane by construction: z is exactly 0.
+    let p = Vec3::new(o.x.add(d.x.mul(t)), o.y.add(d.y.mul(t)), S::ZERO);
+    Some(LocalHit {
+        t,
+        p,
+        n: Vec3::new(S::ZERO, S::ZERO, S::ONE),
+    })
+}
+
+fn cube<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
+    let (o, d) = (o.to_array(), d.to_array());
+    let (mut t_near, mut t_far) = (S::MAX.neg(), S::MAX);
+    let (mut near_axis, mut far_axis) = (0usize, 0usize);
+    for i in 0..3 {
+        // Slab i: the ray is between the faces x_i = ±1 for t in [t1, t2].
+        let inv = S::ONE.div(d[i]);
+        let ta = S::ONE.neg().sub(o[i]).mul(inv);
+        let tb = S::ONE.sub(o[i]).mul(inv);
+        let (t1, t2) = if ta < tb { (ta, tb) } else { (tb, ta) };
+        if t1 > t_near {
+            t_near = t1;
+            near_axis = i;
+        }
+        if t2 < t_far {
+            t_far = t2;
+            far_axis = i;
+        }
+    }
+    if t_near > t_far {
+        return None;
+    }
+    // Entering face if it is ahead, else the exit face (ray from inside).
+    let (t, axis, outward) = if inside(t_near, t_min, t_max) {
+        (t_near, near_axis, d[near_axis] < S::ZERO)
+    } else if inside(t_far, t_min, t_max) {
+        (t_far, far_axis, d[far_axis] >= S::ZERO)
+    } else {
+        return None;
+    };
+    let mut p = [0, 1, 2].map(|i| o[i].add(d[i].mul(t)));
+    let sign = if outward { S::ONE } else { S::ONE.neg() };
+    // Put the point exactly on its face: the face lies on a checker boundary.
+    p[axis] = sign;
+    let mut n = [S::ZERO; 3];
+    n[axis] = sign;
+    Some(LocalHit {
+        t,
+        p: Vec3::from_array(p),
+        n: Vec3::from_array(n),
+    })
+}
+
+/// Hit on the cap `y = y_cap` (±1) of radius 1, if any.
+fn cap<S: Scalar>(o: Vec3<S>, d: Vec3<S>, y_cap: S, t_min: S, t_max: S) -> Option<LocalHit<S>> {
+    if d.y == S::ZERO {
+        return None;
+    }
+    let t = y_cap.sub(o.y).div(d.y);
+    if !inside(t, t_min, t_max) {
+        return None;
+    }
+    let (x, z) = (o.x.add(d.x.mul(t)), o.z.add(d.z.mul(t)));
+    if x.mul(x).add(z.mul(z)) > S::ONE {
+        return None;
+    }
+    Some(LocalHit {
+        t,
+        p: Vec3::new(x, y_cap, z),
+        n: Vec3::new(S::ZERO, y_cap, S::ZERO),
+    })
+}
+
+/// Roots of `a t² + 2 b t + c = 0` in increasing order (`a != 0` assumed
+/// non-negligible by the caller), or `None` for no real root.
+fn roots<S: Scalar>(a: S, b: S, c: S) -> Option<(S, S)> {
+    let disc = b.mul(b).sub(a.mul(c));
+    if disc < S::ZERO {
+        return None;
+    }
+    let h = disc.sqrt();
+    let (r1, r2) = (b.neg().sub(h).div(a), b.neg().add(h).div(a));
+    Some(if r1 < r2 { (r1, r2) } else { (r2, r1) })
+}
+
+/// A root of the side surface, if its point lies within `-1 <= y <= 1`.
+fn side_hit<S: Scalar>(
+    o: Vec3<S>,
+    d: Vec3<S>,
+    t: S,
+    t_min: S,
+    t_max: S,
+    normal: impl Fn(Vec3<S>) -> Vec3<S>,
+) -> Option<LocalHit<S>> {
+    if !inside(t, t_min, t_max) {
+        return None;
+    }
+    let p = o + d * t;
+    if p.y < S::ONE.neg() || p.y > S::ONE {
+        return None;
+    }
+    Some(LocalHit { t, p, n: normal(p) })
+}
+
+/// `|a|` below about 2⁻¹²: treated as zero for a quadratic's leading term.
+fn negligible<S: Scalar>(a: S) -> bool {
+    a.abs() < S::EPSILON.mul(S::from_q15(2048))
+}
+
+fn cylinder<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
+    // Side: (ox + t dx)² + (oz + t dz)² = 1.
+    let a = d.x.mul(d.x).add(d.z.mul(d.z));
+    let b = o.x.mul(d.x).add(o.z.mul(d.z));
+    let c = o.x.mul(o.x).add(o.z.mul(o.z)).sub(S::ONE);
+    let normal = |p: Vec3<S>| Vec3::new(p.x, S::ZERO, p.z);
+    let mut best = None;
+    if !negligible(a) {
+        if let Some((t0, t1)) = roots(a, b, c) {
+            best = side_hit(o, d, t0, t_min, t_max, normal).or_else(|| side_hit(o, d, t1, t_min, t_max, normal));
+        }
+    }
+    best = nearer(best, cap(o, d, S::ONE, t_min, t_max));
+    nearer(best, cap(o, d, S::ONE.neg(), t_min, t_max))
+}
+
+fn cone<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
+    // Side: x² + z² = ((1 - y) / 2)², with w = 1 - y falling by dy per unit t.
+    let quarter = S::from_q15(8192);
+    let w0 = S::ONE.sub(o.y);
+    let a = d.x.mul(d.x).add(d.z.mul(d.z)).sub(quarter.mul(d.y.mul(d.y)));
+    let b = o.x.mul(d.x).add(o.z.mul(d.z)).add(quarter.mul(w0.mul(d.y)));
+    let c = o.x.mul(o.x).add(o.z.mul(o.z)).sub(quarter.mul(w0.mul(w0)));
+    // Gradient of x² + z² − (1 − y)²/4, halved; straight up at the apex.
+    let normal = |p: Vec3<S>| {
+        let n = Vec3::new(p.x, quarter.mul(S::ONE.sub(p.y)), p.z);
+        if n == Vec3::ZERO {
+            Vec3::new(S::ZERO, S::ONE, S::ZERO)
+        } else {
+            n
+        }
+    };
+    let mut best = None;
+    if negligible(a) {
+        // Ray parallel to a line of the cone: one root, −c / 2b.
+        if b != S::ZERO {
+            let t = c.neg().div(b.add(b));
+            best = side_hit(o, d, t, t_min, t_max, normal);
+        }
+    } else if let Some((t0, t1)) = roots(a, b, c) {
+        // The lower root may lie on the upper nappe (y > 1): side_hit rejects it.
+        best = nearer(
+            side_hit(o, d, t0, t_min, t_max, normal),
+            side_hit(o, d, t1, t_min, t_max, normal),
+        );
+    }
+    nearer(best, cap(o, d, S::ONE.neg(), t_min, t_max))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fixed::types::I16F16;
+
+    fn v<S: Scalar>(x: f64, y: f64, z: f64) -> Vec3<S> {
+        Vec3::from_f64([x, y, z])
+    }
+
+    /// Runs a ray in both number types and returns (t, p, n) as f64.
+    fn hit_both(shape: Shape, o: [f64; 3], d: [f64; 3]) -> Option<(f64, [f64; 3], [f64; 3])> {
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let d = if shape == Shape::Plane { d } else { d.map(|x| x / len) };
+        let hf = shape.intersect::<f32>(v(o[0], o[1], o[2]), v(d[0], d[1], d[2]), f32::EPSILON_HIT, f32::MAX);
+        let hx = shape.intersect::<I16F16>(v(o[0], o[1], o[2]), v(d[0], d[1], d[2]), I16F16::EPSILON, I16F16::MAX);
+        assert_eq!(hf.is_some(), hx.is_some(), "{shape:?} from {o:?} along {d:?}: f32 and Q16.16 disagree");
+        let (hf, hx) = (hf?, hx?);
+        assert!((hf.t.to_f64() - hx.t.to_f64()).abs() < 1e-3, "t {hf:?} vs {hx:?}");
+        for (a, b) in hf.p.to_f64().iter().zip(hx.p.to_f64()) {
+            assert!((a - b).abs() < 1e-3, "p {hf:?} vs {hx:?}");
+        }
+        Some((hf.t.to_f64(), hf.p.to_f64(), hf.n.to_f64()))
+    }
+
+    trait Eps {
+        const EPSILON_HIT: Self;
+    }
+    impl Eps for f32 {
+        const EPSILON_HIT: f32 = <f32 as Scalar>::EPSILON;
+    }
+
+    fn unit(n: [f64; 3]) -> [f64; 3] {
+        let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        n.map(|x| x / l)
+    }
+
+    fn near(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
+        (0..3).all(|i| (a[i] - b[i]).abs() < tol)
+    }
+
+    #[test]
+    fn sphere_head_on_from_outside_and_inside() {
+        let (t, p, n) = hit_both(Shape::Sphere, [0.0, 0.0, 3.0], [0.0, 0.0, -1.0]).unwrap();
+        assert!((t - 2.0).abs() < 1e-4);
+        assert!(near(p, [0.0, 0.0, 1.0], 1e-4));
+        assert!(near(unit(n), [0.0, 0.0, 1.0], 1e-4));
+        // From the centre: the far side, at distance 1.
+        let (t, p, _) = hit_both(Shape::Sphere, [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]).unwrap();
+        assert!((t - 1.0).abs() < 1e-4 && near(p, [1.0, 0.0, 0.0], 1e-4));
+        // Pointing away: no hit.
+        assert!(hit_both(Shape::Sphere, [0.0, 0.0, 3.0], [0.0, 0.0, 1.0]).is_none());
+    }
+
+    #[test]
+    fn sphere_grazing_and_missing() {
+        // Passing 0.999 from the centre hits; 1.001 misses.
+        assert!(hit_both(Shape::Sphere, [0.999, 0.0, 2.0], [0.0, 0.0, -1.0]).is_some());
+        assert!(hit_both(Shape::Sphere, [1.001, 0.0, 2.0], [0.0, 0.0, -1.0]).is_none());
+    }
+
+    #[test]
+    fn plane_hits_from_both_sides_and_misses_parallel() {
+        let (t, p, n) = hit_both(Shape::Plane, [0.5, 0.25, 2.0], [0.0, 0.0, -1.0]).unwrap();
+        assert!((t - 2.0).abs() < 1e-4 && p[2] == 0.0 && n == [0.0, 0.0, 1.0]);
+        let (t, _, _) = hit_both(Shape::Plane, [0.0, 0.0, -4.0], [0.0, 0.0, 2.0]).unwrap();
+        assert!((t - 2.0).abs() < 1e-4, "t is in units of the direction");
+        assert!(hit_both(Shape::Plane, [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]).is_none());
+        // Grazing: almost parallel (values exact in Q16.16), still hits on z = 0.
+        let (t, p, _) = hit_both(Shape::Plane, [0.0, 0.0, 1.0 / 128.0], [1.0, 0.0, -1.0 / 1024.0]).unwrap();
+        assert!((t - 8.0).abs() < 1e-3 && p[2] == 0.0);
+    }
+
+    #[test]
+    fn cube_faces_edges_and_inside() {
+        let (t, p, n) = hit_both(Shape::Cube, [0.2, 0.3, 3.0], [0.0, 0.0, -1.0]).unwrap();
+        assert!((t - 2.0).abs() < 1e-4);
+        assert_eq!(p[2], 1.0, "snapped onto the face");
+        assert_eq!(n, [0.0, 0.0, 1.0]);
+        let (_, p, n) = hit_both(Shape::Cube, [-3.0, 0.1, 0.1], [1.0, 0.0, 0.0]).unwrap();
+        assert_eq!((p[0], n), (-1.0, [-1.0, 0.0, 0.0]));
+        // From inside: the exit face, outward normal.
+        let (t, p, n) = hit_both(Shape::Cube, [0.0, 0.0, 0.0], [0.0, -1.0, 0.0]).unwrap();
+        assert!((t - 1.0).abs() < 1e-4 && p[1] == -1.0 && n == [0.0, -1.0, 0.0]);
+        // Diagonal towards a corner, and a miss just past an edge.
+        assert!(hit_both(Shape::Cube, [2.0, 2.0, 2.0], [-1.0, -1.0, -1.0]).is_some());
+        assert!(hit_both(Shape::Cube, [1.01, 0.0, 3.0], [0.0, 0.0, -1.0]).is_none());
+    }
+
+    #[test]
+    fn cylinder_side_caps_and_inside() {
+        let (t, p, n) = hit_both(Shape::Cylinder, [0.0, 0.5, 3.0], [0.0, 0.0, -1.0]).unwrap();
+        assert!((t - 2.0).abs() < 1e-4 && near(p, [0.0, 0.5, 1.0], 1e-4));
+        assert!(near(unit(n), [0.0, 0.0, 1.0], 1e-4));
+        let (t, p, n) = hit_both(Shape::Cylinder, [0.3, 3.0, 0.2], [0.0, -1.0, 0.0]).unwrap();
+        assert!((t - 2.0).abs() < 1e-4 && p[1] == 1.0 && n == [0.0, 1.0, 0.0]);
+        // Above the top, the side's infinite extension must not count.
+        assert!(hit_both(Shape::Cylinder, [0.0, 1.5, 3.0], [0.0, 0.0, -1.0]).is_none());
+        // From inside, downwards: the bottom cap.
+        let (t, p, _) = hit_both(Shape::Cylinder, [0.0, 0.0, 0.0], [0.0, -1.0, 0.0]).unwrap();
+        assert!((t - 1.0).abs() < 1e-4 && p[1] == -1.0);
+        // Grazing the side.
+        assert!(hit_both(Shape::Cylinder, [0.999, 0.0, 3.0], [0.0, 0.0, -1.0]).is_some());
+        assert!(hit_both(Shape::Cylinder, [1.001, 0.0, 3.0], [0.0, 0.0, -1.0]).is_none());
+    }
+
+    #[test]
+    fn cone_side_base_apex_and_inside() {
+        // At y = 0 the radius is 1/2.
+        let (t, p, n) = hit_both(Shape::Cone, [0.0, 0.0, 3.0], [0.0, 0.0, -1.0]).unwrap();
+        assert!((t - 2.5).abs() < 1e-4 && near(p, [0.0, 0.0, 0.5], 1e-4));
+        // Outward normal tilts up by atan(1/2).
+        assert!(near(unit(n), unit([0.0, 0.25, 0.5]), 1e-3), "{n:?}");
+        // Base from below.
+        let (_, p, n) = hit_both(Shape::Cone, [0.2, -3.0, 0.1], [0.0, 1.0, 0.0]).unwrap();
+        assert!(p[1] == -1.0 && n == [0.0, -1.0, 0.0]);
+        // Straight down onto the apex.
+        let (t, _, _) = hit_both(Shape::Cone, [0.0, 3.0, 0.0], [0.0, -1.0, 0.0]).unwrap();
+        assert!((t - 2.0).abs() < 1e-3);
+        // At y = 0.5 the radius is 1/4: 0.3 off the axis misses the cone, and
+        // the mirror nappe above the apex never counts.
+        assert!(hit_both(Shape::Cone, [0.3, 0.5, 3.0], [0.0, 0.0, -1.0]).is_none());
+        assert!(hit_both(Shape::Cone, [0.0, 1.5, 3.0], [0.0, 0.0, -1.0]).is_none());
+        // From inside, sideways.
+        let (t, _, _) = hit_both(Shape::Cone, [0.0, -0.5, 0.0], [1.0, 0.0, 0.0]).unwrap();
+        assert!((t - 0.75).abs() < 1e-3);
+        // Parallel to a generator line (a = 0): one root.
+        let d = [0.0, -2.0, 1.0];
+        assert!(hit_both(Shape::Cone, [0.0, 1.2, -0.5], d).is_some());
+    }
+}

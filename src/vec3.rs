@@ -1,0 +1,118 @@
+//! 3-vectors over a [`Scalar`], with the arithmetic operators.
+//!
+//! The operators follow the [`Scalar`] rules: they saturate in Q16.16 and never
+//! panic.
+
+use crate::scalar::Scalar;
+use core::ops::{Add, Mul, Neg, Sub};
+
+/// A point, direction, normal or colour with three components.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Vec3<S> {
+    /// x, or red.
+    pub x: S,
+    /// y, or green.
+    pub y: S,
+    /// z, or blue.
+    pub z: S,
+}
+
+impl<S: Scalar> Vec3<S> {
+    /// The zero vector.
+    pub const ZERO: Self = Vec3 {
+        x: S::ZERO,
+        y: S::ZERO,
+        z: S::ZERO,
+    };
+
+    /// A vector from its components.
+    #[inline]
+    pub const fn new(x: S, y: S, z: S) -> Self {
+        Vec3 { x, y, z }
+    }
+
+    /// Rounds exact `f64` components (set-up only).
+    pub fn from_f64(v: [f64; 3]) -> Self {
+        Vec3::new(S::from_f64(v[0]), S::from_f64(v[1]), S::from_f64(v[2]))
+    }
+
+    /// The components as `f64` (tests and reports).
+    pub fn to_f64(self) -> [f64; 3] {
+        [self.x.to_f64(), self.y.to_f64(), self.z.to_f64()]
+    }
+
+    /// The components as an array.
+    #[inline]
+    pub fn to_array(self) -> [S; 3] {
+        [self.x, self.y, self.z]
+    }
+
+    /// From an array.
+    #[inline]
+    pub fn from_array(a: [S; 3]) -> Self {
+        Vec3::new(a[0], a[1], a[2])
+    }
+
+    /// Dot product (saturating).
+    #[inline]
+    pub fn dot(self, o: Self) -> S {
+        self.x.mul(o.x).add(self.y.mul(o.y)).add(self.z.mul(o.z))
+    }
+
+    /// Component-wise product (colours).
+    #[inline]
+    pub fn hadamard(self, o: Self) -> Self {
+        Vec3::new(self.x.mul(o.x), self.y.mul(o.y), self.z.mul(o.z))
+    }
+
+    /// Unit vector along `self` and the length of `self`; zero stays zero.
+    #[inline]
+    pub fn normalize_len(self) -> (Self, S) {
+        let (u, l) = S::normalize3(self.to_array());
+        (Vec3::from_array(u), l)
+    }
+
+    /// Unit vector along `self`; zero stays zero.
+    #[inline]
+    pub fn normalize(self) -> Self {
+        self.normalize_len().0
+    }
+
+    /// Length, without intermediate overflow.
+    #[inline]
+    pub fn length(self) -> S {
+        S::length3(self.to_array())
+    }
+}
+
+impl<S: Scalar> Add for Vec3<S> {
+    type Output = Self;
+    #[inline]
+    fn add(self, o: Self) -> Self {
+        Vec3::new(self.x.add(o.x), self.y.add(o.y), self.z.add(o.z))
+    }
+}
+
+impl<S: Scalar> Sub for Vec3<S> {
+    type Output = Self;
+    #[inline]
+    fn sub(self, o: Self) -> Self {
+        Vec3::new(self.x.sub(o.x), self.y.sub(o.y), self.z.sub(o.z))
+    }
+}
+
+impl<S: Scalar> Neg for Vec3<S> {
+    type Output = Self;
+    #[inline]
+    fn neg(self) -> Self {
+        Vec3::new(self.x.neg(), self.y.neg(), self.z.neg())
+    }
+}
+
+impl<S: Scalar> Mul<S> for Vec3<S> {
+    type Output = Self;
+    #[inline]
+    fn mul(self, k: S) -> Self {
+        Vec3::new(self.x.mul(k), self.y.mul(k), self.z.mul(k))
+    }
+}
