@@ -55,14 +55,18 @@ pub struct Ray<S> {
 pub fn basis(params: &CameraParams) -> Option<[[f64; 3]; 3]> {
     let unit = |v: [f64; 3]| {
         let l = libm::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        if l > 0.0 && l == l && l < f64::INFINITY {
+        if l > 0.0 && l.is_finite() {
             Some(v.map(|x| x / l))
         } else {
             None
         }
     };
     let cross = |a: [f64; 3], b: [f64; 3]| {
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
     };
     let n = unit(params.look.map(|x| -x))?;
     let up = unit(params.up)?;
@@ -105,7 +109,7 @@ impl<S: Scalar> Camera<S> {
             [0.0, 0.0, 0.0, -big_n],
         ]);
         let f = params.focal_length;
-        let pinhole = !(params.radius > 0.0);
+        let pinhole = params.radius.is_nan() || params.radius <= 0.0;
         // m = z_f / N = f / (N − f); the tilt is a / m.
         let lens_tilt = if pinhole { 0.0 } else { params.radius * (big_n - f) / f };
         Camera {
@@ -180,7 +184,10 @@ mod tests {
         let cam = Camera::<I16F16>::new(&params, 641, 481);
         let ray = cam.chief_ray(cam.p_film(320, 240));
         let d = ray.dir.to_f64();
-        assert!(d[0].abs() < 1e-4 && d[1].abs() < 1e-4 && (d[2] + 1.0).abs() < 1e-4, "{d:?}");
+        assert!(
+            d[0].abs() < 1e-4 && d[1].abs() < 1e-4 && (d[2] + 1.0).abs() < 1e-4,
+            "{d:?}"
+        );
         assert_eq!(ray.origin.to_f64(), [0.0; 3]);
     }
 
@@ -222,7 +229,10 @@ mod tests {
             let o = r.origin.to_f64();
             assert!((o[0] * o[0] + o[1] * o[1]).sqrt() <= 0.4 + 1e-4);
             let hit = at_focus(r);
-            assert!((hit[0] - target[0]).abs() < 2e-3 && (hit[1] - target[1]).abs() < 2e-3, "{hit:?} vs {target:?}");
+            assert!(
+                (hit[0] - target[0]).abs() < 2e-3 && (hit[1] - target[1]).abs() < 2e-3,
+                "{hit:?} vs {target:?}"
+            );
         }
         // And they do not meet at another depth: at z = −4 they spread out.
         let r = cam.lens_ray(film, (32767, 0));

@@ -282,7 +282,7 @@ impl<'a> Statement<'a> {
                 value: word(s),
             })
         })?;
-        if !(x.abs() < REAL_LIMIT) {
+        if x.is_nan() || x.abs() >= REAL_LIMIT {
             return Err(self.range(i, "must be below 32768 in magnitude (the range of Q16.16)"));
         }
         Ok(x)
@@ -736,8 +736,7 @@ fn in_fixed_range(desc: &ObjectDesc) -> bool {
     let Some(inv) = desc.to_world.inverse() else {
         return false;
     };
-    m.iter().all(|row| row.iter().all(|&x| fits(x)))
-        && inv.0.iter().all(|row| row[..3].iter().all(|&x| fits(x)))
+    m.iter().all(|row| row.iter().all(|&x| fits(x))) && inv.0.iter().all(|row| row[..3].iter().all(|&x| fits(x)))
 }
 
 #[cfg(test)]

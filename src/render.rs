@@ -68,7 +68,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         for _ in 0..self.samples {
             let ray = self.camera.lens_ray(p_film, lfsr.disk_q15());
             let c = self.scene.trace(ray.origin, ray.dir);
-            acc = [S::acc_add(acc[0], c.x), S::acc_add(acc[1], c.y), S::acc_add(acc[2], c.z)];
+            acc = [
+                S::acc_add(acc[0], c.x),
+                S::acc_add(acc[1], c.y),
+                S::acc_add(acc[2], c.z),
+            ];
         }
         Vec3::new(
             S::acc_mean(acc[0], self.samples),

@@ -29,7 +29,7 @@ mod sealed {
 /// The number type of a renderer: Q16.16 [`I16F16`] or `f32`.
 ///
 /// See the [module docs](self) for the rules all implementations follow.
-pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + sealed::Sealed + 'static {
+pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::Sealed + 'static {
     /// 0.
     const ZERO: Self;
     /// 1.
@@ -44,9 +44,9 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + sealed::Sealed + 'stati
 
     /// One row of an affine matrix, stored more precisely than `Self`
     /// (Q16.16 keeps up to 30 fraction bits; see [`Scalar::row_from_f64`]).
-    type Row: Copy + core::fmt::Debug;
+    type Row: Copy + core::fmt::Debug + Send + Sync;
     /// Accumulator for sums of many colours (a pixel's samples).
-    type Acc: Copy + core::fmt::Debug;
+    type Acc: Copy + core::fmt::Debug + Send + Sync;
 
     /// Rounds an `f64` to the nearest value of this type, saturating. Set-up only.
     fn from_f64(x: f64) -> Self;
@@ -190,9 +190,9 @@ fn fixed_log2(raw: i32) -> i64 {
 /// `2^(-2^-j)` for j = 1..=16 in Q2.30, rounded: the factors of `2^-f` for
 /// each set bit of a 16-bit fraction f.
 const EXP2_NEG: [u32; 16] = [
-    759250125, // 2^(-1/2)
-    902905651, // 2^(-1/4)
-    984625594, // 2^(-1/8)
+    759250125,  // 2^(-1/2)
+    902905651,  // 2^(-1/4)
+    984625594,  // 2^(-1/8)
     1028218693, // 2^(-1/16)
     1050733751, // 2^(-1/32)
     1062175491, // 2^(-1/64)
@@ -239,7 +239,7 @@ impl Scalar for I16F16 {
     fn from_f64(x: f64) -> Self {
         let r = x * 65536.0;
         // NaN maps to 0; everything else rounds to nearest and saturates.
-        let bits = if r != r {
+        let bits = if r.is_nan() {
             0
         } else if r >= i32::MAX as f64 {
             i32::MAX
@@ -382,10 +382,7 @@ impl Scalar for I16F16 {
         // The largest shift (at most 30) that keeps entries within 2^30 and the
         // translation within 2^60 at scale 2^(shift+16).
         let mut shift = 30u32;
-        while shift > 0
-            && (big * pow2(shift) > (1u64 << 30) as f64
-                || t_abs * pow2(shift + 16) > (1u64 << 60) as f64)
-        {
+        while shift > 0 && (big * pow2(shift) > (1u64 << 30) as f64 || t_abs * pow2(shift + 16) > (1u64 << 60) as f64) {
             shift -= 1;
         }
         let scale = pow2(shift);
@@ -398,7 +395,15 @@ impl Scalar for I16F16 {
                 t
             }
         };
-        let clamp = |x: f64, lim: f64| if x > lim { lim } else if x < -lim { -lim } else { x };
+        let clamp = |x: f64, lim: f64| {
+            if x > lim {
+                lim
+            } else if x < -lim {
+                -lim
+            } else {
+                x
+            }
+        };
         FixedRow {
             m: [
                 clamp(round(r[0] * scale), (1u64 << 30) as f64) as i32,

@@ -293,7 +293,11 @@ mod tests {
         let d = if shape == Shape::Plane { d } else { d.map(|x| x / len) };
         let hf = shape.intersect::<f32>(v(o[0], o[1], o[2]), v(d[0], d[1], d[2]), f32::EPSILON_HIT, f32::MAX);
         let hx = shape.intersect::<I16F16>(v(o[0], o[1], o[2]), v(d[0], d[1], d[2]), I16F16::EPSILON, I16F16::MAX);
-        assert_eq!(hf.is_some(), hx.is_some(), "{shape:?} from {o:?} along {d:?}: f32 and Q16.16 disagree");
+        assert_eq!(
+            hf.is_some(),
+            hx.is_some(),
+            "{shape:?} from {o:?} along {d:?}: f32 and Q16.16 disagree"
+        );
         let (hf, hx) = (hf?, hx?);
         assert!((hf.t.to_f64() - hx.t.to_f64()).abs() < 1e-3, "t {hf:?} vs {hx:?}");
         for (a, b) in hf.p.to_f64().iter().zip(hx.p.to_f64()) {

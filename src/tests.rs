@@ -70,7 +70,10 @@ fn empty_and_tiny_targets_never_panic() {
         let mut panel = display.cropped(&Rectangle::new(Point::new(10, 10), Size::new(w, h)));
         render(&scene, &mut panel).unwrap();
         let drawn = display.affected_area();
-        assert_eq!(drawn.size, Size::new(w, h).component_min(Size::new(w * h.min(1), h * w.min(1))));
+        assert_eq!(
+            drawn.size,
+            Size::new(w, h).component_min(Size::new(w * h.min(1), h * w.min(1)))
+        );
     }
 }
 
@@ -92,7 +95,11 @@ fn one_fill_per_row_and_rows_match_pixels() {
         fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(&mut self, _: I) -> Result<(), Self::Error> {
             panic!("the renderer should draw whole rows");
         }
-        fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(&mut self, area: &Rectangle, colors: I) -> Result<(), Self::Error> {
+        fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(
+            &mut self,
+            area: &Rectangle,
+            colors: I,
+        ) -> Result<(), Self::Error> {
             assert_eq!(area.size.height, 1);
             self.fills += 1;
             for (x, c) in colors.into_iter().enumerate() {
@@ -119,13 +126,25 @@ fn one_fill_per_row_and_rows_match_pixels() {
 
 /// Evaluates SPEC section 4 in f64 for a sphere at depth `z` seen head-on by
 /// the centre pixel: hit point (0, 0, z + 1), normal +z, viewer +z.
-fn shade_head_on(ka: [f64; 3], kd: [f64; 3], ks: [f64; 3], shine: f64, ia: [f64; 3], light: [f64; 3], z: f64) -> [f64; 3] {
+fn shade_head_on(
+    ka: [f64; 3],
+    kd: [f64; 3],
+    ks: [f64; 3],
+    shine: f64,
+    ia: [f64; 3],
+    light: [f64; 3],
+    z: f64,
+) -> [f64; 3] {
     let p = [0.0, 0.0, z + 1.0];
     let l = [light[0] - p[0], light[1] - p[1], light[2] - p[2]];
     let len = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
     let l = l.map(|x| x / len);
     let n_dot_l = l[2];
-    let r = [2.0 * n_dot_l * 0.0 - l[0], 2.0 * n_dot_l * 0.0 - l[1], 2.0 * n_dot_l - l[2]];
+    let r = [
+        2.0 * n_dot_l * 0.0 - l[0],
+        2.0 * n_dot_l * 0.0 - l[1],
+        2.0 * n_dot_l - l[2],
+    ];
     let r_dot_v = r[2].max(0.0);
     [0, 1, 2].map(|i| ka[i] * ia[i] + kd[i] * n_dot_l.max(0.0) + ks[i] * r_dot_v.powf(shine))
 }
@@ -133,7 +152,15 @@ fn shade_head_on(ka: [f64; 3], kd: [f64; 3], ks: [f64; 3], shine: f64, ia: [f64;
 #[test]
 fn phong_shading_matches_the_spec_formula() {
     let text = "ambient_light 0.5 0.25 1\nlight_position 1 2 0\nobject sphere\nKa 0.2 0.4 0.1\nKd 0.3 0.5 0.2\nKs 0.6 0.3 0.2\nshine 7.5\ntranslate 0 0 -8\n";
-    let want = shade_head_on([0.2, 0.4, 0.1], [0.3, 0.5, 0.2], [0.6, 0.3, 0.2], 7.5, [0.5, 0.25, 1.0], [1.0, 2.0, 0.0], -8.0);
+    let want = shade_head_on(
+        [0.2, 0.4, 0.1],
+        [0.3, 0.5, 0.2],
+        [0.6, 0.3, 0.2],
+        7.5,
+        [0.5, 0.25, 1.0],
+        [1.0, 2.0, 0.0],
+        -8.0,
+    );
     fn centre<S: Scalar>(text: &str) -> [f64; 3] {
         let scene = Scene::<S>::parse(text).unwrap();
         Renderer::new(&scene, 9, 9).pixel_colour(4, 4).to_f64()
@@ -152,7 +179,8 @@ fn phong_shading_matches_the_spec_formula() {
 #[test]
 fn light_behind_the_surface_adds_nothing_and_shadows_block() {
     // Light behind the sphere: only ambient remains.
-    let text = "ambient_light 1 1 1\nlight_position 0 0 -20\nobject sphere\nKa 0.1 0.1 0.1\nKs 1 1 1\ntranslate 0 0 -8\n";
+    let text =
+        "ambient_light 1 1 1\nlight_position 0 0 -20\nobject sphere\nKa 0.1 0.1 0.1\nKs 1 1 1\ntranslate 0 0 -8\n";
     let scene = Scene::<I16F16>::parse(text).unwrap();
     assert_eq!(Renderer::new(&scene, 9, 9).pixel(4, 4), Rgb888::new(26, 26, 26));
     // A floor lit from above, with a sphere between: shadowed only with shadows on.
@@ -194,7 +222,10 @@ fn pinhole_ignores_the_sample_count_and_lens_blurs() {
     let pin = |extra: &str| {
         let s = Scene::<I16F16>::parse(&format!("{base}\n{extra}\n")).unwrap();
         let r = Renderer::new(&s, 32, 24);
-        (0..24).flat_map(move |y| (0..32).map(move |x| (x, y))).map(|(x, y)| r.pixel(x, y)).collect::<std::vec::Vec<_>>()
+        (0..24)
+            .flat_map(move |y| (0..32).map(move |x| (x, y)))
+            .map(|(x, y)| r.pixel(x, y))
+            .collect::<std::vec::Vec<_>>()
     };
     assert_eq!(pin("radius 0\npoint 1"), pin("radius 0\npoint 9"));
     assert_ne!(pin("radius 0"), pin("radius 0.4\npoint 9"));

@@ -64,7 +64,7 @@ impl Mat34 {
     pub fn inverse(&self) -> Option<Mat34> {
         let m = &self.0;
         let d = self.det();
-        if d == 0.0 || d != d {
+        if d == 0.0 || !d.is_finite() {
             return None;
         }
         let inv_d = 1.0 / d;
@@ -78,8 +78,8 @@ impl Mat34 {
             }
         }
         // Translation: -A⁻¹ t.
-        for i in 0..3 {
-            r[i][3] = -(r[i][0] * m[0][3] + r[i][1] * m[1][3] + r[i][2] * m[2][3]);
+        for row in r.iter_mut() {
+            row[3] = -(row[0] * m[0][3] + row[1] * m[1][3] + row[2] * m[2][3]);
         }
         Some(Mat34(r))
     }
@@ -112,10 +112,10 @@ pub fn sin_cos_degrees(degrees: f64) -> (f64, f64) {
         d += 360.0;
     }
     match d {
-        x if x == 0.0 => (0.0, 1.0),
-        x if x == 90.0 => (1.0, 0.0),
-        x if x == 180.0 => (0.0, -1.0),
-        x if x == 270.0 => (-1.0, 0.0),
+        0.0 => (0.0, 1.0),
+        90.0 => (1.0, 0.0),
+        180.0 => (0.0, -1.0),
+        270.0 => (-1.0, 0.0),
         _ => {
             let r = d * (core::f64::consts::PI / 180.0);
             (libm::sin(r), libm::cos(r))
@@ -183,9 +183,18 @@ mod tests {
     #[test]
     fn rotations_are_right_handed() {
         // +90° about z takes x to y; about x takes y to z; about y takes z to x.
-        assert!(close(Mat34::rotate(2, 90.0).apply([1.0, 0.0, 0.0], false), [0.0, 1.0, 0.0]));
-        assert!(close(Mat34::rotate(0, 90.0).apply([0.0, 1.0, 0.0], false), [0.0, 0.0, 1.0]));
-        assert!(close(Mat34::rotate(1, 90.0).apply([0.0, 0.0, 1.0], false), [1.0, 0.0, 0.0]));
+        assert!(close(
+            Mat34::rotate(2, 90.0).apply([1.0, 0.0, 0.0], false),
+            [0.0, 1.0, 0.0]
+        ));
+        assert!(close(
+            Mat34::rotate(0, 90.0).apply([0.0, 1.0, 0.0], false),
+            [0.0, 0.0, 1.0]
+        ));
+        assert!(close(
+            Mat34::rotate(1, 90.0).apply([0.0, 0.0, 1.0], false),
+            [1.0, 0.0, 0.0]
+        ));
     }
 
     #[test]

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# lensray's one test command: installs what is missing, then runs every check.
+#   bash scripts/test-all.sh
+# Steps: rustup targets and components, Debian's qemu-system-arm, format and
+# lint, every host test, the no_std library for two Cortex-M targets, and the
+# firmware under QEMU.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+step() { printf '\n==> %s\n' "$*"; }
+
+step "toolchain: targets and components"
+targets="thumbv6m-none-eabi thumbv7em-none-eabihf"
+installed=$(rustup target list --installed)
+for t in $targets; do
+  if ! grep -qx "$t" <<<"$installed"; then rustup target add "$t"; fi
+done
+for c in clippy rustfmt; do
+  if ! cargo "${c/rustfmt/fmt}" --version >/dev/null 2>&1; then rustup component add "$c"; fi
+done
+
+step "emulator: qemu-system-arm"
+if ! command -v qemu-system-arm >/dev/null 2>&1; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+    apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends qemu-system-arm >/dev/null
+  else
+    echo "qemu-system-arm is missing: install it (Debian: sudo apt-get install qemu-system-arm) and run again" >&2
+    exit 1
+  fi
+fi
+
+step "format and lint"
+cargo fmt --all --check
+cargo clippy --workspace --all-targets -- -D warnings
+
+step "host tests"
+cargo test --workspace
+
+step "no_std library for Cortex-M0 and Cortex-M4F"
+for t in $targets; do
+  cargo build -p lensray --release --target "$t"
+done
+
+if [ -d firmware ]; then
+  step "firmware"
+  bash scripts/firmware-tests.sh
+fi
+
+step "all checks passed"
