@@ -1,0 +1,41 @@
+//! `lensray render`: a scene file to a BMP or PNG image.
+
+use std::path::{Path, PathBuf};
+
+use lensray::{Scalar, I16F16};
+use lensray_host::{encode, load_scene, write_atomic, Format};
+
+use crate::opts::{image_size, parse_opts, render_with_progress};
+use crate::{Fail, USAGE};
+
+pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
+    let o = parse_opts(args)?;
+    let [scene_path] = o.positional.as_slice() else {
+        return Err(Fail(format!("render takes one scene file\n{USAGE}")));
+    };
+    let scene_path = Path::new(scene_path);
+    let out = match &o.out {
+        Some(p) => p.clone(),
+        None => {
+            let stem = scene_path.file_stem().ok_or("the scene path has no file name")?;
+            PathBuf::from(stem).with_extension("bmp")
+        }
+    };
+    let format = Format::of(&out).ok_or_else(|| Fail(format!("{}: output must end in .bmp or .png", out.display())))?;
+    if out.is_dir() {
+        return Err(Fail(format!("{}: is a directory", out.display())));
+    }
+    let (img, kind) = if o.float {
+        let scene = load_scene::<f32>(scene_path)?;
+        let (w, h) = image_size(&o, scene.camera.aspect_ratio)?;
+        (render_with_progress(&scene, w, h, o.samples), f32::NAME)
+    } else {
+        let scene = load_scene::<I16F16>(scene_path)?;
+        let (w, h) = image_size(&o, scene.camera.aspect_ratio)?;
+        (render_with_progress(&scene, w, h, o.samples), I16F16::NAME)
+    };
+    let bytes = encode(&img, format)?;
+    write_atomic(&out, &bytes).map_err(|e| Fail(format!("{}: cannot write: {e}", out.display())))?;
+    eprintln!("wrote {} ({}x{}, {kind})", out.display(), img.width, img.height);
+    Ok(())
+}
