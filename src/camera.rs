@@ -14,6 +14,8 @@
 //! The lens samples arrive from outside (see [`crate::lfsr`]), so the camera
 //! itself is deterministic.
 
+use crate::aperture::Aperture;
+use crate::lfsr::Lfsr;
 use crate::scalar::Scalar;
 use crate::scene::CameraParams;
 use crate::transform::{Affine, Mat34};
@@ -36,6 +38,8 @@ pub struct Camera<S: Scalar> {
     lens_tilt: S,
     /// Pinhole (a = 0): one ray per pixel.
     pinhole: bool,
+    /// Shape of the lens opening the samples are drawn on.
+    aperture: Aperture,
     cols: u32,
     rows: u32,
 }
@@ -118,6 +122,7 @@ impl<S: Scalar> Camera<S> {
             lens_radius: S::from_f64(if pinhole { 0.0 } else { params.radius }),
             lens_tilt: S::from_f64(lens_tilt),
             pinhole,
+            aperture: Aperture::regular(params.aperture_blades, params.aperture_rotation),
             cols,
             rows,
         }
@@ -136,6 +141,18 @@ impl<S: Scalar> Camera<S> {
     /// Whether this is a pinhole camera (radius 0): one ray per pixel.
     pub fn is_pinhole(&self) -> bool {
         self.pinhole
+    }
+
+    /// The shape of the lens opening (`aperture_blades`, `aperture_rotation`).
+    pub fn aperture(&self) -> &Aperture {
+        &self.aperture
+    }
+
+    /// The next lens point (Q1.15, within the unit circle) from a pixel's
+    /// register, uniform on the aperture: integers only, as [`Camera::lens_ray`] takes it.
+    #[inline]
+    pub fn lens_sample(&self, lfsr: &mut Lfsr) -> (i32, i32) {
+        self.aperture.sample(lfsr)
     }
 
     /// The film point `(u_c, v_r, −N)` of pixel (`col`, `row`), camera frame.

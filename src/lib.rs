@@ -42,14 +42,17 @@
 //! ## Modules
 //!
 //! [`scalar`] (the number trait), [`vec3`], [`transform`], [`lfsr`],
-//! [`camera`], [`shape`], [`scene`], [`parse`], [`render`].
+//! [`aperture`], [`camera`], [`autofocus`], [`progressive`], [`shape`], [`scene`], [`parse`], [`render`].
 
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
 
+pub mod aperture;
+pub mod autofocus;
 pub mod camera;
 pub mod lfsr;
 pub mod parse;
+pub mod progressive;
 pub mod render;
 pub mod scalar;
 pub mod scene;

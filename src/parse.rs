@@ -7,12 +7,12 @@
 
 use core::fmt;
 
-use crate::camera;
 use crate::scalar::Scalar;
 use crate::scene::{Light, Object, ObjectDesc, Scene, DEFAULT_MATERIAL, MATERIALS, MAX_LIGHTS, MAX_OBJECTS};
 use crate::shape::Shape;
 use crate::transform::Mat34;
 use crate::vec3::Vec3;
+use crate::{aperture, autofocus, camera};
 
 /// Magnitudes a real value must stay below: the range of Q16.16.
 pub const REAL_LIMIT: f64 = 32768.0;
@@ -139,6 +139,25 @@ pub enum ErrorKind {
     /// An object's transform puts it beyond Q16.16's range (±32768), or
     /// squeezes it flat.
     ObjectOutOfRange,
+    /// `f_number` makes a lens radius beyond Q16.16's range.
+    ApertureTooWide {
+        /// The radius f / (2k).
+        radius: f64,
+    },
+    /// `focus_on` names an object the scene does not have.
+    NoSuchObject {
+        /// The 1-based index given.
+        index: u32,
+        /// How many objects the scene has.
+        count: usize,
+    },
+    /// `focus_on` names an object whose focus point is not in front of the lens.
+    FocusBehindCamera {
+        /// The 1-based index given.
+        index: u32,
+        /// The focus point's depth along the viewing direction.
+        depth: f64,
+    },
 }
 
 /// A scene that breaks the format: the 1-based line and what is wrong.
@@ -207,6 +226,17 @@ impl fmt::Display for ErrorKind {
                 f,
                 "object: its transformations put it beyond the range of Q16.16 (coordinates below 32768)"
             ),
+            ApertureTooWide { radius } => write!(
+                f,
+                "f_number: the lens radius focal_length / (2 f_number) = {radius} must be below 32768"
+            ),
+            NoSuchObject { index, count } => {
+                write!(f, "focus_on {index}: the scene has only {count} object(s)")
+            }
+            FocusBehindCamera { index, depth } => write!(
+                f,
+                "focus_on {index}: the object is not in front of the camera (its focus point lies at depth {depth})"
+            ),
         }
     }
 }
@@ -218,7 +248,12 @@ impl fmt::Display for ParseError {
 }
 
 /// Every keyword of the format.
-pub const KEYWORDS: [&str; 24] = [
+pub const KEYWORDS: [&str; 29] = [
+    "focus_distance",
+    "f_number",
+    "focus_on",
+    "aperture_blades",
+    "aperture_rotation",
     "width",
     "aspect_ratio",
     "image_distance",
@@ -444,6 +479,10 @@ impl<S: Scalar> Scene<S> {
             scene: Scene::default(),
             object: None,
             lines: CameraLines::default(),
+            focus: Focus::FocalLength,
+            stop: Stop::Radius,
+            focus_target: last_focus_on(bytes),
+            focus_desc: None,
         };
         for (i, raw) in bytes.split(|&b| b == b'\n').enumerate() {
             let line = u32::try_from(i + 1).unwrap_or(u32::MAX);
@@ -483,10 +522,60 @@ struct CameraLines {
     up: u32,
 }
 
+/// The statement that sets the focus; the last one in the file stands.
+#[derive(Copy, Clone)]
+enum Focus {
+    /// `focal_length` (or the default): as written.
+    FocalLength,
+    /// `focus_distance d`.
+    Distance(f64),
+    /// `focus_on I` on this line.
+    Object { index: u32, line: u32 },
+}
+
+/// The statement that sets the aperture's size; the last one stands.
+#[derive(Copy, Clone)]
+enum Stop {
+    /// `radius` (or the default).
+    Radius,
+    /// `f_number k` on this line, with the focal length in force at the end of the file.
+    FNumber(f64, u32),
+}
+
 struct Parser<S: Scalar> {
     scene: Scene<S>,
     object: Option<Pending>,
     lines: CameraLines,
+    focus: Focus,
+    stop: Stop,
+    /// The index of the file's last `focus_on`, found before parsing: the one
+    /// object whose exact description is kept (no list of them all).
+    focus_target: Option<u32>,
+    focus_desc: Option<ObjectDesc>,
+}
+
+/// The value of the last `focus_on` line with a whole number, if any: a quick
+/// look ahead, so that an object can be kept for autofocus as it goes by
+/// (the real parse checks every line).
+fn last_focus_on(bytes: &[u8]) -> Option<u32> {
+    let mut target = None;
+    for raw in bytes.split(|&b| b == b'\n') {
+        let stmt = raw.split(|&b| b == b'#').next().unwrap_or(raw);
+        let mut tokens = stmt
+            .split(|&b| b == b' ' || b == b'\t' || b == b'\r')
+            .filter(|t| !t.is_empty());
+        if tokens.next() != Some(b"focus_on".as_slice()) {
+            continue;
+        }
+        if let Some(n) = tokens
+            .next()
+            .and_then(|t| core::str::from_utf8(t).ok())
+            .and_then(|t| t.parse::<u32>().ok())
+        {
+            target = Some(n);
+        }
+    }
+    target
 }
 
 fn positive(x: f64) -> bool {
@@ -534,7 +623,23 @@ impl<S: Scalar> Parser<S> {
             "focal_length" => {
                 cam.focal_length = st.one_real(positive, GT0)?;
                 self.lines.focal_length = st.line;
+                self.focus = Focus::FocalLength;
             }
+            "focus_distance" => self.focus = Focus::Distance(st.one_real(positive, GT0)?),
+            "focus_on" => {
+                let index = st.integer(1, MAX_OBJECTS as u64, "must be an object's number, from 1 (file order)")?;
+                self.focus = Focus::Object { index, line: st.line };
+            }
+            "f_number" => self.stop = Stop::FNumber(st.one_real(positive, GT0)?, st.line),
+            "aperture_blades" => {
+                const RULE: &str = "must be 0 (round) or between 3 and 16";
+                let n = st.integer(0, aperture::MAX_BLADES as u64, RULE)?;
+                if n == 1 || n == 2 {
+                    return Err(st.range(0, RULE));
+                }
+                cam.aperture_blades = n;
+            }
+            "aperture_rotation" => cam.aperture_rotation = st.one_real(any, "")?,
             "look" | "up" => {
                 let v = st.three(any, "")?;
                 if v == [0.0; 3] {
@@ -549,7 +654,10 @@ impl<S: Scalar> Parser<S> {
                 }
             }
             "point" => cam.samples = st.integer(1, 65535, "must be between 1 and 65535")?,
-            "radius" => cam.radius = st.one_real(non_negative, GE0)?,
+            "radius" => {
+                cam.radius = st.one_real(non_negative, GE0)?;
+                self.stop = Stop::Radius;
+            }
             "ambient_light" => self.scene.ambient = Vec3::from_f64(st.three(non_negative, GE0)?),
             "background" => self.scene.background = Vec3::from_f64(st.three(unit_interval, "must be between 0 and 1")?),
             "shadows" => {
@@ -703,13 +811,16 @@ impl<S: Scalar> Parser<S> {
             return Err(out_of_range);
         }
         let object = Object::new(&obj.desc).ok_or(out_of_range.clone())?;
+        if self.focus_target == Some(self.scene.objects.len() as u32 + 1) {
+            self.focus_desc = Some(obj.desc);
+        }
         self.scene.objects.push(object).map_err(|_| out_of_range)?;
         Ok(())
     }
 
     fn finish_camera(&mut self) -> Result<(), ParseError> {
-        let cam = &self.scene.camera;
-        if cam.focal_length >= cam.image_distance {
+        let cam = &mut self.scene.camera;
+        if matches!(self.focus, Focus::FocalLength) && cam.focal_length >= cam.image_distance {
             return Err(ParseError {
                 line: self.lines.focal_length.max(self.lines.image_distance),
                 kind: ErrorKind::FocalLength {
@@ -723,6 +834,42 @@ impl<S: Scalar> Parser<S> {
                 line: self.lines.look.max(self.lines.up),
                 kind: ErrorKind::UpParallelToLook,
             });
+        }
+        // focus_distance and focus_on keep N and set f (1/f = 1/N + 1/d): f < N always.
+        match self.focus {
+            Focus::FocalLength => {}
+            Focus::Distance(d) => cam.set_focus_distance(d),
+            Focus::Object { index, line } => {
+                let count = self.scene.objects.len();
+                let desc = match self.focus_desc {
+                    Some(desc) if index as usize <= count => desc,
+                    _ => {
+                        return Err(ParseError {
+                            line,
+                            kind: ErrorKind::NoSuchObject { index, count },
+                        })
+                    }
+                };
+                let depth = autofocus::focus_distance(cam, &desc);
+                // NaN included: a degenerate view has no depth to focus at.
+                if depth.is_nan() || depth <= 0.0 {
+                    return Err(ParseError {
+                        line,
+                        kind: ErrorKind::FocusBehindCamera { index, depth },
+                    });
+                }
+                cam.set_focus_distance(depth);
+            }
+        }
+        // After the focus: the f-number takes the focal length in force at the end.
+        if let Stop::FNumber(k, line) = self.stop {
+            cam.set_f_number(k);
+            if cam.radius >= REAL_LIMIT {
+                return Err(ParseError {
+                    line,
+                    kind: ErrorKind::ApertureTooWide { radius: cam.radius },
+                });
+            }
         }
         Ok(())
     }
@@ -741,3 +888,6 @@ fn in_fixed_range(desc: &ObjectDesc) -> bool {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod focus_tests;

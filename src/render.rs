@@ -66,7 +66,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut lfsr = Lfsr::for_pixel(col, row, 0);
         let mut acc = [S::acc_zero(); 3];
         for _ in 0..self.samples {
-            let ray = self.camera.lens_ray(p_film, lfsr.disk_q15());
+            let ray = self.camera.lens_ray(p_film, self.camera.lens_sample(&mut lfsr));
             let c = self.scene.trace(ray.origin, ray.dir);
             acc = [
                 S::acc_add(acc[0], c.x),

@@ -36,6 +36,13 @@ pub struct CameraParams {
     pub samples: u32,
     /// Lens radius a (`radius`); 0 is a pinhole.
     pub radius: f64,
+    /// Blades of the aperture (`aperture_blades`): 0 is a round aperture, else
+    /// the lens is a regular polygon of that many sides (3 to
+    /// [`crate::aperture::MAX_BLADES`]) inscribed in the circle of radius a.
+    pub aperture_blades: u32,
+    /// Rotation of the aperture polygon in degrees (`aperture_rotation`): at 0
+    /// a corner points along the camera's u (right); positive turns towards v (up).
+    pub aperture_rotation: f64,
 }
 
 impl Default for CameraParams {
@@ -50,6 +57,8 @@ impl Default for CameraParams {
             up: [0.0, 1.0, 0.0],
             samples: 1,
             radius: 0.0,
+            aperture_blades: 0,
+            aperture_rotation: 0.0,
         }
     }
 }
@@ -58,6 +67,30 @@ impl CameraParams {
     /// Distance of the plane in focus from the lens: f·N / (N − f).
     pub fn focus_depth(&self) -> f64 {
         self.focal_length * self.image_distance / (self.image_distance - self.focal_length)
+    }
+
+    /// The focal length that puts the plane in focus at distance `d > 0` with
+    /// the image distance N kept (thin lens: 1/f = 1/N + 1/d), so the framing
+    /// stays as it is: N d / (N + d), always between 0 and N.
+    pub fn focal_length_for_distance(&self, d: f64) -> f64 {
+        self.image_distance * d / (self.image_distance + d)
+    }
+
+    /// Refocuses at distance `d > 0` (`focus_distance`): sets the focal length
+    /// by [`CameraParams::focal_length_for_distance`].
+    pub fn set_focus_distance(&mut self, d: f64) {
+        self.focal_length = self.focal_length_for_distance(d);
+    }
+
+    /// The f-number f / (2a); infinite for a pinhole.
+    pub fn f_number(&self) -> f64 {
+        self.focal_length / (2.0 * self.radius)
+    }
+
+    /// Sets the lens radius from an f-number `k > 0` (`f_number`) and the
+    /// current focal length: a = f / (2k). Call it after any refocus.
+    pub fn set_f_number(&mut self, k: f64) {
+        self.radius = self.focal_length / (2.0 * k);
     }
 }
 
