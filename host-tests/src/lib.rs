@@ -10,6 +10,10 @@ use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
 use lensray::{Renderer, Scalar, Scene};
 use rayon::prelude::*;
 
+pub mod canvas;
+pub mod passes;
+pub mod sheet;
+
 /// An RGB image in memory, row-major from the top-left.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Image {

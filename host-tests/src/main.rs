@@ -2,6 +2,8 @@
 //!
 //! ```text
 //! lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
+//!                      [--passes DIR [--first-step S] [--preview-samples P]]
+//! lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT] [render options]
 //! ```
 //!
 //! Exit status: 0 on success, 2 on any error (bad scene, bad arguments,
@@ -11,16 +13,28 @@
 use std::process::ExitCode;
 
 mod cmd_render;
+mod cmd_sheet;
 mod opts;
 
 pub(crate) const USAGE: &str = "usage:
   lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
+                       [--passes DIR [--first-step S] [--preview-samples P]]
+  lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT]
+                       [--width W] [--height H] [--samples N] [--float]
 
   render   renders a scene file to OUT (.bmp or .png; default: the scene's
            name with .bmp, in the current directory). --width defaults to 640,
            --height to round(width / aspect_ratio); --samples overrides the
            scene's `point`; --float renders with the f32 reference instead of
-           Q16.16.";
+           Q16.16. --passes renders progressively as a display would show
+           it and saves the picture after each pass as DIR/pass-1.png ...:
+           a preview of SxS blocks (S = --first-step, default 8) with P lens
+           samples (--preview-samples, default 1; 0 for none), then the same
+           blocks and ever finer ones at the full samples; the last pass is
+           the plain render, also written to OUT.
+  sheet    renders each scene (--width default 320) and lays them side by side,
+           C a row (default up to 4), each captioned with its file name and
+           camera, under an optional title, into SHEET (default sheet.png).";
 
 /// A one-line error for the user; exit status 2.
 pub(crate) struct Fail(pub(crate) String);
@@ -45,6 +59,7 @@ fn main() -> ExitCode {
 fn run(args: &[String]) -> Result<(), Fail> {
     match args.first().map(String::as_str) {
         Some("render") => cmd_render::run(&args[1..]),
+        Some("sheet") => cmd_sheet::run(&args[1..]),
         Some("-h") | Some("--help") | Some("help") => {
             println!("{USAGE}");
             Ok(())
