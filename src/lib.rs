@@ -42,7 +42,9 @@
 //! ## Modules
 //!
 //! [`scalar`] (the number trait), [`vec3`], [`transform`], [`lfsr`],
-//! [`aperture`], [`camera`], [`autofocus`], [`progressive`], [`shape`], [`scene`], [`parse`], [`render`].
+//! [`scalar`] (the number trait), [`vec3`], [`transform`], [`lfsr`],
+//! [`aperture`], [`camera`], [`autofocus`], [`progressive`], [`shape`], [`scene`],
+//! [`parse`], [`mod@render`].
 
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
