@@ -42,7 +42,6 @@
 //! ## Modules
 //!
 //! [`scalar`] (the number trait), [`vec3`], [`transform`], [`lfsr`],
-//! [`scalar`] (the number trait), [`vec3`], [`transform`], [`lfsr`],
 //! [`aperture`], [`camera`], [`autofocus`], [`progressive`], [`shape`], [`scene`],
 //! [`parse`], [`mod@render`].
 
