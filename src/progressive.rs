@@ -4,7 +4,7 @@
 //! A render of the paper's Program 1 takes minutes to hours on a
 //! microcontroller. Progressive rendering puts a rough picture on the panel
 //! within a fraction of that and then sharpens it, pass by pass, until it is
-//! exactly the picture [`crate::render`] draws.
+//! exactly the picture [`crate::render()`] draws.
 //!
 //! # How, without a frame buffer
 //!
