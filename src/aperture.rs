@@ -10,6 +10,12 @@
 //!
 //! The polygon is inscribed in the unit circle: its corners lie on the rim of
 //! the round lens of the same radius, as a photographer's aperture is measured.
+//!
+//! Cost: a draw is two 16-bit numbers (64 register clocks) and at most n
+//! multiply-add-compare steps. The square keeps a share of draws equal to the
+//! shape's area over 4: 79 % for the disk, 65 % for a hexagon, 59 % for a
+//! pentagon, 32 % for a triangle, so a triangle needs 2.4 times the disk's
+//! draws per sample; next to tracing the sample's ray, that is small.
 
 use crate::lfsr::Lfsr;
 use crate::transform::sin_cos_degrees;

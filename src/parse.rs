@@ -233,10 +233,14 @@ impl fmt::Display for ErrorKind {
             NoSuchObject { index, count } => {
                 write!(f, "focus_on {index}: the scene has only {count} object(s)")
             }
-            FocusBehindCamera { index, depth } => write!(
-                f,
-                "focus_on {index}: the object is not in front of the camera (its focus point lies at depth {depth})"
-            ),
+            FocusBehindCamera { index, depth } => {
+                // Rounded for reading; + 0.0 turns a rounded −0 into 0.
+                let d = libm::round(depth * 1000.0) / 1000.0 + 0.0;
+                write!(
+                    f,
+                    "focus_on {index}: the object is not in front of the camera (its focus point lies at depth {d})"
+                )
+            }
         }
     }
 }

@@ -84,6 +84,10 @@ fn focus_on_focuses_on_the_near_surface_of_program_1s_sphere() {
     let (line, kind, msg) = err(&format!("{text}\nfocus_on 1\n"));
     assert_eq!(line, text.lines().count() as u32 + 2);
     assert!(matches!(kind, ErrorKind::FocusBehindCamera { index: 1, .. }), "{msg}");
+    assert!(
+        msg.ends_with("focus_on 1: the object is not in front of the camera (its focus point lies at depth 0)"),
+        "{msg}"
+    );
     // Cube (2) nearer, cone (4) farther.
     let cube = cam(&format!("{text}\nfocus_on 2\n")).focus_depth();
     let cone = cam(&format!("{text}\nfocus_on 4\n")).focus_depth();
