@@ -13,14 +13,18 @@ fn program1() -> String {
     std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/paper-program1.scene")).unwrap()
 }
 
-/// A bright sphere of radius 0.75 at depth 24, far behind the plane in focus
-/// (depth 8), seen through a lens of radius 2.25 with the given blades. One ray
-/// in 256 that hits it saturates its pixel, so the lit pixels are the blur
-/// spot: the aperture's shape scaled by 2/3, widened by a quarter unit.
-fn bokeh_scene(blades: u32, rotation: f64) -> String {
+/// A bright sphere out of focus (the plane in focus is at depth 8), seen
+/// through a lens with the given blades. One ray in 256 that hits it saturates
+/// its pixel, so the lit pixels are the blur spot. Far: radius 0.75 at depth
+/// 24, lens radius 2.25: the aperture's shape scaled by 2/3, widened by a
+/// quarter unit. Near: radius 0.125 at depth 4, lens radius 1.5: the aperture's
+/// shape turned upside down, widened by a quarter unit. Both spots: corners
+/// 1.5 units from the centre.
+fn bokeh_scene(blades: u32, rotation: f64, near: bool) -> String {
+    let (lens, size, depth) = if near { (1.5, 0.125, 4) } else { (2.25, 0.75, 24) };
     format!(
-        "width 4\nambient_light 1 1 1\nradius 2.25\npoint 256\naperture_blades {blades}\naperture_rotation {rotation}\n\
-         object sphere\nKa 300 300 300\nKd 0 0 0\nscale 0.75 0.75 0.75\ntranslate 0 0 -24\n"
+        "width 4\nambient_light 1 1 1\nradius {lens}\npoint 256\naperture_blades {blades}\naperture_rotation {rotation}\n\
+         object sphere\nKa 300 300 300\nKd 0 0 0\nscale {size} {size} {size}\ntranslate 0 0 -{depth}\n"
     )
 }
 
@@ -87,27 +91,28 @@ fn angle_gap(a: f64, b: f64) -> f64 {
     d.min(360.0 - d)
 }
 
-fn bokeh<S: Scalar + Send + Sync>(blades: u32, rotation: f64) -> Image {
-    let scene = Scene::<S>::parse(&bokeh_scene(blades, rotation)).unwrap();
+fn bokeh<S: Scalar + Send + Sync>(blades: u32, rotation: f64, near: bool) -> Image {
+    let scene = Scene::<S>::parse(&bokeh_scene(blades, rotation, near)).unwrap();
     render_image(&scene, 160, 160, None, &|| {})
 }
 
 #[test]
 fn out_of_focus_point_images_as_the_aperture_polygon() {
-    for (blades, rotation) in [(5u32, 90.0), (6, 0.0), (3, -90.0)] {
-        let img = bokeh::<I16F16>(blades, rotation);
+    for (blades, rotation, near) in [(5u32, 90.0, false), (6, 0.0, false), (3, -90.0, false), (5, 90.0, true)] {
+        let img = bokeh::<I16F16>(blades, rotation, near);
         let pts = lit_mask(&img);
         let found = corners(&support(&pts));
         // Behind the plane in focus the spot keeps the aperture's orientation
-        // (the picture is upright): corners at rotation + k·360°/n, at the
-        // circumradius (2/3)·2.25 = 1.5 units (60 pixels) widened by the
-        // sphere's own blur of 1/4 unit (10 pixels), which moves a corner
-        // out by 10 / cos(180°/n).
+        // (the picture is upright): corners at rotation + k·360°/n; in front
+        // of it, the rays cross before the plane and the spot is upside down.
+        // Corners at 1.5 units (60 pixels) widened by the sphere's own blur
+        // of 1/4 unit (10 pixels), which moves a corner out by 10 / cos(180°/n).
+        let turn = if near { 180.0 } else { 0.0 };
         let expected: Vec<f64> = (0..blades)
-            .map(|k| rotation + 360.0 * k as f64 / blades as f64)
+            .map(|k| rotation + turn + 360.0 * k as f64 / blades as f64)
             .collect();
         let reach = 60.0 + 10.0 / (180.0 / blades as f64).to_radians().cos();
-        eprintln!("{blades} blades: corners {found:?}");
+        eprintln!("{blades} blades, near {near}: corners {found:?}");
         assert_eq!(
             found.len(),
             blades as usize,
@@ -129,8 +134,8 @@ fn out_of_focus_point_images_as_the_aperture_polygon() {
             );
         }
         // The f32 reference draws the same lens points: the same spot.
-        if blades == 5 {
-            let f = bokeh::<f32>(blades, rotation);
+        if blades == 5 && !near {
+            let f = bokeh::<f32>(blades, rotation, near);
             let differ = img
                 .pixels
                 .iter()
@@ -141,7 +146,7 @@ fn out_of_focus_point_images_as_the_aperture_polygon() {
         }
     }
     // A round lens: a round spot, no corners anywhere.
-    let round = lit_mask(&bokeh::<I16F16>(0, 0.0));
+    let round = lit_mask(&bokeh::<I16F16>(0, 0.0, false));
     let found = corners(&support(&round));
     assert!(found.is_empty(), "round aperture has corners at {found:?}");
 }

@@ -160,3 +160,19 @@ fn camera_params_api_matches_the_keywords() {
     assert!(close(p.radius, 2.0) && close(p.f_number(), 1.5));
     assert_eq!(p.focal_length_for_distance(8.0), 4.0);
 }
+
+#[test]
+fn the_features_scene_uses_each_feature() {
+    let text = include_str!("../../scenes/camera-features.scene");
+    let c = cam(text);
+    // focus_on 2 (the gold sphere at (0.6, −1, −9)) replaced focus_distance 20.
+    let centre = [0.6f64, -1.0, -9.0];
+    let range = (centre[0] * centre[0] + centre[1] * centre[1] + centre[2] * centre[2]).sqrt();
+    let look = [0.0f64, -0.08, -1.0];
+    let look_len = (look[0] * look[0] + look[1] * look[1] + look[2] * look[2]).sqrt();
+    let hit = centre.map(|x| x * (range - 1.0) / range);
+    let depth = (hit[0] * look[0] + hit[1] * look[1] + hit[2] * look[2]) / look_len;
+    assert!((c.focus_depth() - depth).abs() < 1e-9, "{} vs {depth}", c.focus_depth());
+    assert!(close(c.f_number(), 1.8));
+    assert_eq!((c.aperture_blades, c.aperture_rotation), (6, 15.0));
+}
