@@ -33,9 +33,11 @@ pub struct Aperture {
     /// 0 for round, else the number of sides (3..=[`MAX_BLADES`]).
     blades: u8,
     /// Edge `i` keeps the Q1.15 points with `a x + b y <= c`: (a, b) the
-    /// outward unit normal in Q1.14, c the inradius cos(π/n) in Q2.29.
+    /// outward unit normal in Q1.14, c = `inradius`.
     /// `|a x + b y| <= 2 · 2¹⁴ · 2¹⁵ = 2³⁰`: no i32 overflow.
-    edges: [(i16, i16, i32); MAX_BLADES as usize],
+    edges: [(i16, i16); MAX_BLADES as usize],
+    /// The polygon's inradius cos(π/n) in Q2.29, the same for every edge.
+    inradius: i32,
 }
 
 impl Default for Aperture {
@@ -48,7 +50,8 @@ impl Aperture {
     /// The round lens: samples from [`Lfsr::disk_q15`].
     pub const ROUND: Aperture = Aperture {
         blades: 0,
-        edges: [(0, 0, 0); MAX_BLADES as usize],
+        edges: [(0, 0); MAX_BLADES as usize],
+        inradius: 0,
     };
 
     /// A regular polygon of `blades` sides inscribed in the unit circle, with a
@@ -61,21 +64,17 @@ impl Aperture {
             return Aperture::ROUND;
         }
         let n = blades.min(MAX_BLADES);
+        let (_, inradius) = sin_cos_degrees(180.0 / n as f64);
         let mut ap = Aperture {
             blades: n as u8,
+            inradius: libm::round(inradius * NORMAL_ONE * 32768.0) as i32,
             ..Aperture::ROUND
         };
-        let (_, inradius) = sin_cos_degrees(180.0 / n as f64);
-        let c = libm::round(inradius * NORMAL_ONE * 32768.0) as i32;
         for (k, e) in ap.edges.iter_mut().take(n as usize).enumerate() {
             // Edge k joins corners k and k + 1; its normal points halfway between.
             let angle = rotation_degrees + 180.0 * (2 * k + 1) as f64 / n as f64;
             let (s, co) = sin_cos_degrees(angle);
-            *e = (
-                libm::round(co * NORMAL_ONE) as i16,
-                libm::round(s * NORMAL_ONE) as i16,
-                c,
-            );
+            *e = (libm::round(co * NORMAL_ONE) as i16, libm::round(s * NORMAL_ONE) as i16);
         }
         ap
     }
@@ -92,9 +91,10 @@ impl Aperture {
         if self.blades == 0 {
             return x * x + y * y < 1 << 30;
         }
+        let c = self.inradius;
         self.edges[..self.blades as usize]
             .iter()
-            .all(|&(a, b, c)| a as i32 * x + b as i32 * y <= c)
+            .all(|&(a, b)| a as i32 * x + b as i32 * y <= c)
     }
 
     /// A lens point uniform on the aperture, in Q1.15, by rejection from the
