@@ -37,6 +37,10 @@ use config::*;
 const ROWS_FILE: &str = "lensray-rows.rgb";
 /// Bytes of one row: 3 per pixel.
 const ROW_BYTES: usize = WIDTH as usize * 3;
+/// How the f32 renderer takes square roots, for the report.
+const SQRT: &str = if cfg!(feature = "hw-sqrt") { "vsqrt.f32" } else { "libm" };
+/// The square root, as the report's first line shows it for f32.
+const SQRT_NOTE: &str = if cfg!(feature = "hw-sqrt") { " (sqrt: vsqrt.f32)" } else { " (sqrt: libm)" };
 /// The core, for the report.
 const CORE: &str = if cfg!(feature = "microbit") { "Cortex-M0" } else { "Cortex-M4F" };
 
@@ -91,14 +95,15 @@ fn main() -> ! {
     let rays = renderer.rays_per_pixel();
     let report = writeln!(
         console,
-        "board {BOARD} ({CORE}), {}, scene {SCENE_NAME}, {WIDTH}x{HEIGHT}, {rays} rays per pixel\n\
+        "board {BOARD} ({CORE}), {}{}, scene {SCENE_NAME}, {WIDTH}x{HEIGHT}, {rays} rays per pixel\n\
          set-up: {setup} instructions\n\
          frame: {frame} instructions, {per_pixel} instructions per pixel\n\
          memory: flash {} bytes, static RAM {} bytes, peak stack {} bytes{}, RAM {} bytes\n\
-         report board={BOARD} number={} width={WIDTH} height={HEIGHT} rays={rays} setup={setup} frame={frame} \
+         report board={BOARD} number={} f32_sqrt={SQRT} width={WIDTH} height={HEIGHT} rays={rays} setup={setup} frame={frame} \
          per_pixel={per_pixel} flash={} static_ram={} peak_stack={} stack_overflow={} ram={} \
          calibration={calibration}",
         Number::NAME,
+        if Number::NAME == "f32" { SQRT_NOTE } else { "" },
         stack_paint::flash(),
         stack_paint::static_ram(),
         paint.peak_stack(),
@@ -133,7 +138,7 @@ unsafe fn DefaultHandler(irq: i16) {
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo) -> ! {
     if let Ok(mut console) = HostFile::console() {
-        let _ = writeln!(console, "panicked: {info}");
+        let _ = writeln!(console, "{info}");
     }
     exit(101)
 }

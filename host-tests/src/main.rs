@@ -2,6 +2,7 @@
 //!
 //! ```text
 //! lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
+//! lensray emulate SCENE --board microbit|mps2-an386 [-o OUT] [--width W] [--height H] [--samples N] [--float]
 //! ```
 //!
 //! Exit status: 0 on success, 2 on any error (bad scene, bad arguments,
@@ -10,17 +11,27 @@
 
 use std::process::ExitCode;
 
+mod cmd_emulate;
 mod cmd_render;
 mod opts;
 
 pub(crate) const USAGE: &str = "usage:
   lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
+  lensray emulate SCENE --board microbit|mps2-an386 [-o OUT] [--width W] [--height H]
+                  [--samples N] [--float] [--soft-sqrt] [--timeout SECONDS]
 
   render   renders a scene file to OUT (.bmp or .png; default: the scene's
            name with .bmp, in the current directory). --width defaults to 640,
            --height to round(width / aspect_ratio); --samples overrides the
            scene's `point`; --float renders with the f32 reference instead of
-           Q16.16.";
+           Q16.16.
+
+  emulate  builds the firmware (../firmware) with the scene embedded, runs it
+           under QEMU on the board (qemu-system-arm, instruction counting on),
+           writes the image the board rendered to OUT (default: the scene's
+           name, -BOARD.bmp) and prints its instructions per pixel and memory
+           use. --width defaults to 160; --soft-sqrt takes f32 square roots in
+           software even on the FPU board; --timeout (3600 s) bounds the run.";
 
 /// A one-line error for the user; exit status 2.
 pub(crate) struct Fail(pub(crate) String);
@@ -45,6 +56,7 @@ fn main() -> ExitCode {
 fn run(args: &[String]) -> Result<(), Fail> {
     match args.first().map(String::as_str) {
         Some("render") => cmd_render::run(&args[1..]),
+        Some("emulate") => cmd_emulate::run(&args[1..]),
         Some("-h") | Some("--help") | Some("help") => {
             println!("{USAGE}");
             Ok(())
