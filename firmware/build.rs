@@ -55,7 +55,9 @@ fn main() {
     ];
     let chosen: Vec<_> = boards
         .iter()
-        .filter(|(name, _, _)| env::var_os(format!("CARGO_FEATURE_{}", name.to_uppercase().replace('-', "_"))).is_some())
+        .filter(|(name, _, _)| {
+            env::var_os(format!("CARGO_FEATURE_{}", name.to_uppercase().replace('-', "_"))).is_some()
+        })
         .collect();
     let [(board, memory_x, want_target)] = chosen.as_slice() else {
         fail("pick exactly one board feature: --features microbit (--target thumbv6m-none-eabi) or --features mps2-an386 (--target thumbv7em-none-eabihf)");
@@ -91,7 +93,9 @@ fn main() {
         // The host's rule (lensray render): round(width / aspect_ratio).
         let h = (width as f64 / scene.camera.aspect_ratio).round();
         if !(1.0..=MAX_SIDE as f64).contains(&h) {
-            fail(&format!("height {h} from width {width} / aspect_ratio: set LENSRAY_HEIGHT"));
+            fail(&format!(
+                "height {h} from width {width} / aspect_ratio: set LENSRAY_HEIGHT"
+            ));
         }
         h as u32
     });

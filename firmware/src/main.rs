@@ -40,15 +40,25 @@ const ROW_BYTES: usize = WIDTH as usize * 3;
 /// How the f32 renderer takes square roots, for the report.
 const SQRT: &str = if cfg!(feature = "hw-sqrt") { "vsqrt.f32" } else { "libm" };
 /// The square root, as the report's first line shows it for f32.
-const SQRT_NOTE: &str = if cfg!(feature = "hw-sqrt") { " (sqrt: vsqrt.f32)" } else { " (sqrt: libm)" };
+const SQRT_NOTE: &str = if cfg!(feature = "hw-sqrt") {
+    " (sqrt: vsqrt.f32)"
+} else {
+    " (sqrt: libm)"
+};
 /// The core, for the report.
-const CORE: &str = if cfg!(feature = "microbit") { "Cortex-M0" } else { "Cortex-M4F" };
+const CORE: &str = if cfg!(feature = "microbit") {
+    "Cortex-M0"
+} else {
+    "Cortex-M4F"
+};
 
 #[entry]
 fn main() -> ! {
     let paint = stack_paint::paint();
     let Ok(mut console) = HostFile::console() else { exit(1) };
-    let Some(peripherals) = cortex_m::Peripherals::take() else { exit(1) };
+    let Some(peripherals) = cortex_m::Peripherals::take() else {
+        exit(1)
+    };
     match FAULT {
         "panic" => panic!("failing on purpose (LENSRAY_FAULT=panic)"),
         // SAFETY: an undefined instruction, to test the HardFault handler.

@@ -94,9 +94,8 @@ impl<const BYTES: usize> DrawTarget for RowFile<BYTES> {
 
     /// The fast path: one whole row, sent in one write.
     fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(&mut self, area: &Rectangle, colors: I) -> Result<(), RowError> {
-        let whole_row = area.top_left.x == 0
-            && area.top_left.y == self.next_row as i32
-            && area.size == Size::new(self.width(), 1);
+        let whole_row =
+            area.top_left.x == 0 && area.top_left.y == self.next_row as i32 && area.size == Size::new(self.width(), 1);
         if !whole_row {
             return Err(RowError::OutOfOrder);
         }

@@ -64,9 +64,10 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
         match a.as_str() {
             "--board" => {
                 let name = it.next().ok_or("--board needs a value: microbit or mps2-an386")?;
-                let b = BOARDS.iter().find(|b| b.name == name.as_str()).ok_or_else(|| {
-                    Fail(format!("--board {name}: unknown board; use microbit or mps2-an386"))
-                })?;
+                let b = BOARDS
+                    .iter()
+                    .find(|b| b.name == name.as_str())
+                    .ok_or_else(|| Fail(format!("--board {name}: unknown board; use microbit or mps2-an386")))?;
                 board = Some(b);
             }
             "--timeout" => timeout = parse_u32("--timeout", it.next(), 1, 86_400)?,
@@ -149,7 +150,11 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     let bytes = encode(&img, format)?;
     write_atomic(&out, &bytes).map_err(|e| Fail(format!("{}: cannot write: {e}", out.display())))?;
     let kind = if o.float { f32::NAME } else { I16F16::NAME };
-    eprintln!("wrote {} ({width}x{height}, {kind}, rendered on {})", out.display(), board.name);
+    eprintln!(
+        "wrote {} ({width}x{height}, {kind}, rendered on {})",
+        out.display(),
+        board.name
+    );
     Ok(())
 }
 
@@ -196,7 +201,8 @@ impl Build<'_> {
         std::fs::create_dir_all(&target_dir).map_err(|e| Fail(format!("{}: {e}", target_dir.display())))?;
         let lock_path = target_dir.join("lensray-emulate.lock");
         let lock = std::fs::File::create(&lock_path).map_err(|e| Fail(format!("{}: {e}", lock_path.display())))?;
-        lock.lock().map_err(|e| Fail(format!("{}: cannot lock: {e}", lock_path.display())))?;
+        lock.lock()
+            .map_err(|e| Fail(format!("{}: cannot lock: {e}", lock_path.display())))?;
 
         let features = if self.soft_sqrt {
             self.board.features.replace(",hw-sqrt", "")
@@ -206,7 +212,14 @@ impl Build<'_> {
         eprintln!("building the firmware for {} ({})", self.board.name, self.board.target);
         let mut cmd = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
         cmd.current_dir(&firmware)
-            .args(["build", "--release", "--target", self.board.target, "--features", &features])
+            .args([
+                "build",
+                "--release",
+                "--target",
+                self.board.target,
+                "--features",
+                &features,
+            ])
             .arg("--target-dir")
             .arg(&target_dir)
             .env("LENSRAY_SCENE", self.scene)
@@ -232,7 +245,10 @@ impl Build<'_> {
                 String::from_utf8_lossy(&built.stderr).trim_end()
             )));
         }
-        let elf = target_dir.join(self.board.target).join("release").join("lensray-firmware");
+        let elf = target_dir
+            .join(self.board.target)
+            .join("release")
+            .join("lensray-firmware");
         let copy = dir.join("lensray-firmware.elf");
         std::fs::copy(&elf, &copy).map_err(|e| Fail(format!("{}: {e}", elf.display())))?;
         drop(lock);

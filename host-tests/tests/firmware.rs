@@ -121,9 +121,21 @@ fn emulate_and_compare(run: &Run) -> Outcome {
     // The host's own render of the same scene at the same size, in the same number type.
     let path = scene(run.scene);
     let host = if run.float {
-        render_image(&load_scene::<f32>(&path).unwrap(), run.width, run.height, run.samples, &|| {})
+        render_image(
+            &load_scene::<f32>(&path).unwrap(),
+            run.width,
+            run.height,
+            run.samples,
+            &|| {},
+        )
     } else {
-        render_image(&load_scene::<I16F16>(&path).unwrap(), run.width, run.height, run.samples, &|| {})
+        render_image(
+            &load_scene::<I16F16>(&path).unwrap(),
+            run.width,
+            run.height,
+            run.samples,
+            &|| {},
+        )
     };
     assert_eq!((image.width, image.height), (run.width, run.height));
     let differing: Vec<(usize, _, _)> = image
@@ -161,10 +173,17 @@ fn emulate_and_compare(run: &Run) -> Outcome {
     let per_pixel = outcome.get("per_pixel");
     assert_eq!(per_pixel, (outcome.get("frame") + pixels / 2) / pixels);
     let summary = format!("{per_pixel} instructions per pixel on {}", run.board);
-    assert!(outcome.stdout.contains(&summary), "no line \"{summary}\":\n{}", outcome.stdout);
+    assert!(
+        outcome.stdout.contains(&summary),
+        "no line \"{summary}\":\n{}",
+        outcome.stdout
+    );
     // SysTick counts instructions: a loop of exactly 2,000,000 reads within one tick.
     let cal = outcome.get("calibration") as i64;
-    assert!((cal - 2_000_000).abs() <= 63, "calibration loop counted as {cal} instructions");
+    assert!(
+        (cal - 2_000_000).abs() <= 63,
+        "calibration loop counted as {cal} instructions"
+    );
     // No stack overflow into the statics, and everything fits the board's RAM.
     assert_eq!(outcome.get("stack_overflow"), 0, "{}", outcome.stdout);
     let used = outcome.get("static_ram") + outcome.get("peak_stack");
@@ -278,7 +297,10 @@ fn mps2_an386_renders_bit_for_bit_in_q16_and_f32() {
     let outcomes: Vec<Outcome> = runs.iter().map(emulate_and_compare).collect();
     // The FPU's square root is in use (not libm's, whose image is the same):
     // the frame takes fewer instructions with it.
-    assert_eq!(outcomes[2].report.get("f32_sqrt").map(String::as_str), Some("vsqrt.f32"));
+    assert_eq!(
+        outcomes[2].report.get("f32_sqrt").map(String::as_str),
+        Some("vsqrt.f32")
+    );
     assert_eq!(outcomes[3].report.get("f32_sqrt").map(String::as_str), Some("libm"));
     assert!(
         outcomes[2].get("frame") < outcomes[3].get("frame"),
@@ -316,14 +338,23 @@ fn emulate_fault(board: &str, fault: &str) -> Output {
 #[ignore = "needs qemu-system-arm and both thumb targets; run by scripts/firmware-tests.sh"]
 fn a_panic_or_a_hardfault_exits_non_zero_instead_of_hanging() {
     for (board, fault, status, says) in [
-        ("microbit", "panic", "exit status 101", "failing on purpose (LENSRAY_FAULT=panic)"),
+        (
+            "microbit",
+            "panic",
+            "exit status 101",
+            "failing on purpose (LENSRAY_FAULT=panic)",
+        ),
         ("microbit", "hardfault", "exit status 3", "HardFault at pc"),
         ("mps2-an386", "hardfault", "exit status 3", "HardFault at pc"),
     ] {
         let o = emulate_fault(board, fault);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{board} {fault}:\n{}", show(&o));
-        assert!(err.contains(status) && err.contains(says), "{board} {fault}:\n{}", show(&o));
+        assert!(
+            err.contains(status) && err.contains(says),
+            "{board} {fault}:\n{}",
+            show(&o)
+        );
     }
 }
 
