@@ -42,7 +42,7 @@
 //! ## Modules
 //!
 //! [`scalar`] (the number trait), [`vec3`], [`transform`], [`lfsr`],
-//! [`camera`], [`shape`], [`scene`], [`parse`], [`render`].
+//! [`camera`], [`shape`], [`scene`], [`parse`], [`mod@render`].
 
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]

@@ -436,3 +436,99 @@ impl<S: Scalar> Scene<S> {
         colour
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fixed::types::I16F16;
+
+    fn object<S: Scalar>(shape: Shape, to_world: Mat34) -> Object<S> {
+        let (_, ka, kd, ks, shine) = DEFAULT_MATERIAL;
+        Object::new(&ObjectDesc {
+            shape,
+            ka,
+            kd,
+            ks,
+            shine,
+            texture: 0.0,
+            to_world,
+        })
+        .unwrap()
+    }
+
+    /// World-space hit distance and unit normal (facing the ray), in f64.
+    fn hit<S: Scalar>(obj: &Object<S>, o: [f64; 3], d: [f64; 3]) -> Option<(f64, [f64; 3])> {
+        let (o, d) = (Vec3::<S>::from_f64(o), Vec3::<S>::from_f64(d).normalize());
+        let h = obj.intersect(o, d, S::EPSILON, S::MAX)?;
+        Some((h.t.to_f64(), obj.normal(&h, d).to_f64()))
+    }
+
+    fn both(shape: Shape, m: Mat34, o: [f64; 3], d: [f64; 3]) -> Option<(f64, [f64; 3])> {
+        let a = hit(&object::<f32>(shape, m), o, d);
+        let b = hit(&object::<I16F16>(shape, m), o, d);
+        assert_eq!(a.is_some(), b.is_some(), "{shape:?}: f32 {a:?} vs Q16.16 {b:?}");
+        if let (Some(x), Some(y)) = (a, b) {
+            assert!((x.0 - y.0).abs() < 2e-3, "t {x:?} vs {y:?}");
+            assert!((0..3).all(|i| (x.1[i] - y.1[i]).abs() < 2e-3), "n {x:?} vs {y:?}");
+        }
+        a
+    }
+
+    fn close(a: [f64; 3], b: [f64; 3]) -> bool {
+        (0..3).all(|i| (a[i] - b[i]).abs() < 2e-3)
+    }
+
+    #[test]
+    fn scaled_and_moved_sphere() {
+        // Radius 2 at (1, 0, -10): the ray down -z from (1, 0, 0) hits at depth 8.
+        let m = Mat34::translate([1.0, 0.0, -10.0]).after(&Mat34::scale([2.0; 3]));
+        let (t, n) = both(Shape::Sphere, m, [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]).unwrap();
+        assert!((t - 8.0).abs() < 2e-3 && close(n, [0.0, 0.0, 1.0]), "{t} {n:?}");
+        // An ellipsoid squashed in z: semi-axis 0.5 along z.
+        let m = Mat34::translate([0.0, 0.0, -5.0]).after(&Mat34::scale([1.0, 1.0, 0.5]));
+        let (t, _) = both(Shape::Sphere, m, [0.0, 0.0, 0.0], [0.0, 0.0, -1.0]).unwrap();
+        assert!((t - 4.5).abs() < 2e-3);
+        // Normals of a non-uniformly scaled shape need the inverse transpose:
+        // at 45° around an ellipse x²/4 + y² = 1 the normal is not radial.
+        let m = Mat34::scale([2.0, 1.0, 1.0]);
+        let p = [2.0f64.sqrt(), 0.5f64.sqrt(), 0.0];
+        let (_, n) = both(Shape::Sphere, m, [p[0] * 3.0, p[1] * 3.0, 0.0], [-p[0], -p[1], 0.0]).unwrap();
+        let want = [p[0] / 4.0, p[1], 0.0];
+        let l = (want[0] * want[0] + want[1] * want[1]).sqrt();
+        assert!(close(n, want.map(|x| x / l)), "{n:?}");
+    }
+
+    #[test]
+    fn rotated_cube_and_floor() {
+        // Program 1's cube: rotated 45° about y, its edge faces the camera.
+        let m = Mat34::translate([0.0, 0.0, -6.0]).after(&Mat34::rotate(1, 45.0));
+        let (t, n) = both(Shape::Cube, m, [0.0, 0.0, 0.0], [0.0, 0.0, -1.0]).unwrap();
+        assert!((t - (6.0 - 2.0f64.sqrt())).abs() < 2e-3, "{t}");
+        let s = 0.5f64.sqrt();
+        assert!(close(n, [s, 0.0, s]) || close(n, [-s, 0.0, s]), "{n:?}");
+        // Program 1's floor: plane rotated -80° about x and lowered to y = -3.
+        let m = Mat34::translate([0.0, -3.0, 0.0]).after(&Mat34::rotate(0, -80.0));
+        let (t, n) = both(Shape::Plane, m, [0.0, 0.0, 0.0], [0.0, -1.0, 0.0]).unwrap();
+        // Straight down from the origin: the plane holds (0, -3, 0), so t = 3,
+        // and its normal is +z turned by -80° about x (tipped up towards +y).
+        let normal = Mat34::rotate(0, -80.0).apply([0.0, 0.0, 1.0], false);
+        assert!(normal[1] > 0.98 && close(n, normal), "{n:?} vs {normal:?}");
+        assert!((t - 3.0).abs() < 2e-3, "{t}");
+        // A ray along the floor's own slope, just above it, never meets it.
+        let along = Mat34::rotate(0, -80.0).apply([0.0, 1.0, 0.0], false);
+        let start = [0.0, -3.0 + 0.01 * normal[1], 0.01 * normal[2]];
+        assert!(both(Shape::Plane, m, start, along).is_none());
+    }
+
+    #[test]
+    fn rays_from_inside_and_behind() {
+        let m = Mat34::translate([0.0, 0.0, -5.0]).after(&Mat34::scale([3.0; 3]));
+        // From the centre of a big cylinder: the side at distance 3, normal facing back.
+        let (t, n) = both(Shape::Cylinder, m, [0.0, 0.0, -5.0], [1.0, 0.0, 0.0]).unwrap();
+        assert!((t - 3.0).abs() < 2e-3 && close(n, [-1.0, 0.0, 0.0]), "{t} {n:?}");
+        // Behind the ray: nothing.
+        assert!(both(Shape::Cone, m, [0.0, 0.0, 0.0], [0.0, 0.0, 1.0]).is_none());
+        // Grazing the bounding sphere but missing the cube inside it.
+        assert!(both(Shape::Cube, m, [3.5, 3.5, 0.0], [0.0, 0.0, -1.0]).is_none());
+    }
+}
