@@ -1,8 +1,8 @@
 //! The firmware under QEMU, through `lensray emulate`: the rows each board
 //! sends are bit for bit the host's own render of the same scene and size,
 //! the instruction counter is calibrated, the microbit's 16 KiB of RAM hold the
-//! statics and the deepest stack, and a panic or a HardFault ends the run with
-//! a non-zero status instead of a hang.
+//! statics and the deepest stack, a panic or a HardFault ends the run with a
+//! non-zero status instead of a hang, and a run past `--timeout` is stopped.
 //!
 //! The QEMU tests need qemu-system-arm and the thumbv6m/thumbv7em targets and
 //! take a minute or two, so they are `#[ignore]`d in a plain `cargo test`;
@@ -356,6 +356,31 @@ fn a_panic_or_a_hardfault_exits_non_zero_instead_of_hanging() {
             show(&o)
         );
     }
+}
+
+#[test]
+#[ignore = "needs qemu-system-arm and thumbv6m-none-eabi; run by scripts/firmware-tests.sh"]
+fn a_run_past_its_timeout_is_stopped() {
+    // Program 1 with its own 70 rays a pixel: tens of seconds of QEMU, stopped after 1.
+    let run = Run {
+        board: "microbit",
+        scene: PROGRAM1,
+        width: 160,
+        height: 120,
+        samples: None,
+        float: false,
+        soft_sqrt: false,
+    };
+    let out = tmp("timeout.bmp");
+    let _ = std::fs::remove_file(&out);
+    let o = emulate_cmd(&run, &out).args(["--timeout", "1"]).output().unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", show(&o));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("did not finish within 1 s"),
+        "{}",
+        show(&o)
+    );
+    assert!(!out.exists());
 }
 
 #[test]
