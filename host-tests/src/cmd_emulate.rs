@@ -131,6 +131,12 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
             board.name
         ))
     })?;
+    if report_value::<u32>(&report, "stack_overflow")? != 0 {
+        return Err(Fail(format!(
+            "the stack on {} ran into the statics, so the image may be wrong; a smaller --width needs less. It said:\n{output}",
+            board.name
+        )));
+    }
     let rows = std::fs::read(work.0.join(ROWS_FILE))
         .map_err(|e| Fail(format!("the firmware's rows ({ROWS_FILE}) cannot be read: {e}")))?;
     let img = image_from_rows(&rows, width, height)?;
@@ -320,14 +326,22 @@ fn run_qemu(board: &Board, elf: &Path, dir: &Path, timeout: Duration) -> Result<
             board.name,
             timeout.as_secs()
         ))),
-        Some(s) if !s.success() => Err(Fail(format!(
-            "the firmware on {} failed ({}); it said:\n{said}",
-            board.name,
-            match s.code() {
-                Some(c) => format!("exit status {c}"),
-                None => "killed by a signal".to_string(),
-            }
-        ))),
+        Some(s) if !s.success() => {
+            // A stack overflow faults, and its fault handler faults again (a lockup).
+            let hint = if said.contains("HardFault") || said.contains("Lockup") {
+                "\n(a stack overflow ends like this; a smaller --width needs less stack)"
+            } else {
+                ""
+            };
+            Err(Fail(format!(
+                "the firmware on {} failed ({}); it said:\n{said}{hint}",
+                board.name,
+                match s.code() {
+                    Some(c) => format!("exit status {c}"),
+                    None => "killed by a signal".to_string(),
+                }
+            )))
+        }
         Some(_) => Ok(out),
     }
 }
