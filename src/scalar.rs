@@ -451,6 +451,38 @@ fn pow2(e: u32) -> f64 {
     (1u64 << e) as f64
 }
 
+/// Correctly rounded `sqrt` of a positive f32: libm's, in software.
+#[cfg(not(all(feature = "hw-sqrt", target_arch = "arm", target_abi = "eabihf")))]
+#[inline]
+fn sqrt_f32(x: f32) -> f32 {
+    libm::sqrtf(x)
+}
+
+/// Correctly rounded `sqrt` of a positive f32: the FPU's `vsqrt.f32` (IEEE 754
+/// requires it correctly rounded, so it equals libm's `sqrtf` bit for bit).
+#[cfg(all(feature = "hw-sqrt", target_arch = "arm", target_abi = "eabihf"))]
+#[inline]
+fn sqrt_f32(x: f32) -> f32 {
+    let r: u32;
+    // Stable Rust refuses FPU register operands here (`vfp2` is an unstable
+    // target feature), so the value goes through s0, which is saved and restored.
+    // SAFETY: FPU register moves and one square root; s0 is left as it was.
+    unsafe {
+        core::arch::asm!(
+            "vmov {save}, s0",
+            "vmov s0, {x}",
+            "vsqrt.f32 s0, s0",
+            "vmov {r}, s0",
+            "vmov s0, {save}",
+            x = in(reg) x.to_bits(),
+            r = lateout(reg) r,
+            save = out(reg) _,
+            options(pure, nomem, nostack, preserves_flags),
+        );
+    }
+    f32::from_bits(r)
+}
+
 impl Scalar for f32 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
@@ -512,7 +544,7 @@ impl Scalar for f32 {
         if self <= 0.0 {
             0.0
         } else {
-            libm::sqrtf(self)
+            sqrt_f32(self)
         }
     }
     fn powf(self, e: Self) -> Self {

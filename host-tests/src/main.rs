@@ -4,6 +4,7 @@
 //! lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
 //!                      [--passes DIR [--first-step S] [--preview-samples P]]
 //! lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT] [render options]
+//! lensray emulate SCENE --board microbit|mps2-an386 [-o OUT] [--width W] [--height H] [--samples N] [--float]
 //! ```
 //!
 //! Exit status: 0 on success, 2 on any error (bad scene, bad arguments,
@@ -12,6 +13,7 @@
 
 use std::process::ExitCode;
 
+mod cmd_emulate;
 mod cmd_render;
 mod cmd_sheet;
 mod opts;
@@ -21,6 +23,8 @@ pub(crate) const USAGE: &str = "usage:
                        [--passes DIR [--first-step S] [--preview-samples P]]
   lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT]
                        [--width W] [--height H] [--samples N] [--float]
+  lensray emulate SCENE --board microbit|mps2-an386 [-o OUT] [--width W] [--height H]
+                  [--samples N] [--float] [--soft-sqrt] [--timeout SECONDS]
 
   render   renders a scene file to OUT (.bmp or .png; default: the scene's
            name with .bmp, in the current directory). --width defaults to 640,
@@ -34,7 +38,13 @@ pub(crate) const USAGE: &str = "usage:
            the plain render, also written to OUT.
   sheet    renders each scene (--width default 320) and lays them side by side,
            C a row (default up to 4), each captioned with its file name and
-           camera, under an optional title, into SHEET (default sheet.png).";
+           camera, under an optional title, into SHEET (default sheet.png).
+  emulate  builds the firmware (../firmware) with the scene embedded, runs it
+           under QEMU on the board (qemu-system-arm, instruction counting on),
+           writes the image the board rendered to OUT (default: the scene's
+           name, -BOARD.bmp) and prints its instructions per pixel and memory
+           use. --width defaults to 160; --soft-sqrt takes f32 square roots in
+           software even on the FPU board; --timeout (3600 s) bounds the run.";
 
 /// A one-line error for the user; exit status 2.
 pub(crate) struct Fail(pub(crate) String);
@@ -60,6 +70,7 @@ fn run(args: &[String]) -> Result<(), Fail> {
     match args.first().map(String::as_str) {
         Some("render") => cmd_render::run(&args[1..]),
         Some("sheet") => cmd_sheet::run(&args[1..]),
+        Some("emulate") => cmd_emulate::run(&args[1..]),
         Some("-h") | Some("--help") | Some("help") => {
             println!("{USAGE}");
             Ok(())
