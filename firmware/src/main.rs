@@ -16,6 +16,8 @@
 #![no_main]
 
 mod instruction_count;
+#[cfg(feature = "profile")]
+mod profile;
 mod row_file;
 mod semihosting;
 mod stack_paint;
@@ -67,6 +69,21 @@ fn main() -> ! {
     }
     let counter = instruction_count::Counter::start(peripherals.SYST);
 
+    #[cfg(feature = "profile")]
+    {
+        let Ok(mut scene) = Scene::<Number>::parse_bytes(SCENE) else {
+            exit(2)
+        };
+        let _ = writeln!(
+            console,
+            "profile board={BOARD} number={} scene={SCENE_NAME} width={WIDTH} height={HEIGHT}",
+            Number::NAME
+        );
+        profile::run(&mut scene, WIDTH, HEIGHT, SAMPLES, &counter, &mut console);
+        let _ = writeln!(console, "profile-stack peak_stack={}", paint.peak_stack());
+        exit(0)
+    }
+    #[allow(unreachable_code)]
     let calibration = counter.calibrate();
     let t0 = counter.ticks();
     let scene = match Scene::<Number>::parse_bytes(SCENE) {
