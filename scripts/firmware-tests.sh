@@ -16,36 +16,8 @@ step() { printf '\n==> %s\n' "$*"; }
 unset LENSRAY_SCENE LENSRAY_WIDTH LENSRAY_HEIGHT LENSRAY_SAMPLES LENSRAY_FLOAT LENSRAY_FAULT LENSRAY_FIRMWARE_DIR
 
 step "firmware: tools"
-installed=$(rustup target list --installed)
-for t in thumbv6m-none-eabi thumbv7em-none-eabihf; do
-  if ! grep -qx "$t" <<<"$installed"; then rustup target add "$t"; fi
-done
-as_root_apt() {
-  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
-    apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$@" >/dev/null
-  else
-    return 1
-  fi
-}
-if ! command -v qemu-system-arm >/dev/null 2>&1; then
-  as_root_apt qemu-system-arm || {
-    echo "qemu-system-arm is missing: install it (Debian: sudo apt-get install qemu-system-arm) and run again" >&2
-    exit 1
-  }
-fi
-size_tool=""
-for s in arm-none-eabi-size llvm-size; do
-  if command -v "$s" >/dev/null 2>&1; then size_tool=$s; break; fi
-done
-if [ -z "$size_tool" ]; then
-  if as_root_apt binutils-arm-none-eabi; then
-    size_tool=arm-none-eabi-size
-  else
-    rustup component add llvm-tools
-    size_tool="$(rustc --print sysroot)/lib/rustlib/$(rustc -vV | sed -n 's/^host: //p')/bin/llvm-size"
-  fi
-fi
+# shellcheck source=firmware-tools.sh
+source "$root/scripts/firmware-tools.sh"
 qemu-system-arm --version | head -1
 echo "size tool: $size_tool"
 
@@ -53,6 +25,7 @@ cd "$root/firmware"
 step "firmware: format and lint (microbit, mps2-an386, pico)"
 cargo fmt --all --check
 cargo clippy --release --features microbit --target thumbv6m-none-eabi -- -D warnings
+cargo clippy --release --features microbit,profile --target thumbv6m-none-eabi -- -D warnings
 cargo clippy --release --features mps2-an386,hw-sqrt --target thumbv7em-none-eabihf -- -D warnings
 cargo clippy --release -p lensray-pico --target thumbv6m-none-eabi -- -D warnings
 

@@ -1,0 +1,33 @@
+# Sourced by scripts/firmware-tests.sh and scripts/bench.sh: installs what the
+# firmware needs where it is missing (thumb targets, qemu-system-arm, a size
+# tool) and sets $size_tool.
+installed=$(rustup target list --installed)
+for t in thumbv6m-none-eabi thumbv7em-none-eabihf; do
+  if ! grep -qx "$t" <<<"$installed"; then rustup target add "$t"; fi
+done
+as_root_apt() {
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+    apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$@" >/dev/null
+  else
+    return 1
+  fi
+}
+if ! command -v qemu-system-arm >/dev/null 2>&1; then
+  as_root_apt qemu-system-arm || {
+    echo "qemu-system-arm is missing: install it (Debian: sudo apt-get install qemu-system-arm) and run again" >&2
+    exit 1
+  }
+fi
+size_tool=""
+for s in arm-none-eabi-size llvm-size; do
+  if command -v "$s" >/dev/null 2>&1; then size_tool=$s; break; fi
+done
+if [ -z "$size_tool" ]; then
+  if as_root_apt binutils-arm-none-eabi; then
+    size_tool=arm-none-eabi-size
+  else
+    rustup component add llvm-tools
+    size_tool="$(rustc --print sysroot)/lib/rustlib/$(rustc -vV | sed -n 's/^host: //p')/bin/llvm-size"
+  fi
+fi
