@@ -96,8 +96,8 @@ pub enum ErrorKind {
     UnknownMaterial(Word),
     /// `rotate` names an axis other than x, y, z.
     UnknownAxis(Word),
-    /// `shadows` takes `on` or `off`.
-    NotASwitch(Word),
+    /// `shadows` and `adaptive` take `on` or `off`: the keyword and the word.
+    NotASwitch(&'static str, Word),
     /// An object statement before any `object`.
     NoObject {
         /// The statement's keyword.
@@ -201,7 +201,7 @@ impl fmt::Display for ErrorKind {
             UnknownShape(w) => write!(f, "object: unknown shape \"{w}\" (sphere, plane, cube, cylinder or cone)"),
             UnknownMaterial(w) => write!(f, "object: unknown material \"{w}\""),
             UnknownAxis(w) => write!(f, "rotate: unknown axis \"{w}\" (x, y or z)"),
-            NotASwitch(w) => write!(f, "shadows: \"{w}\" must be on or off"),
+            NotASwitch(k, w) => write!(f, "{k}: \"{w}\" must be on or off"),
             NoObject { keyword } => write!(f, "{keyword} before any object statement"),
             NoLight => write!(f, "light_intensity before any light_position"),
             TransformExpected {
@@ -252,7 +252,7 @@ impl fmt::Display for ParseError {
 }
 
 /// Every keyword of the format.
-pub const KEYWORDS: [&str; 29] = [
+pub const KEYWORDS: [&str; 30] = [
     "focus_distance",
     "f_number",
     "focus_on",
@@ -272,6 +272,7 @@ pub const KEYWORDS: [&str; 29] = [
     "light_intensity",
     "background",
     "shadows",
+    "adaptive",
     "object",
     "Ka",
     "Kd",
@@ -669,7 +670,15 @@ impl<S: Scalar> Parser<S> {
                 self.scene.shadows = match st.values[0] {
                     "on" => true,
                     "off" => false,
-                    other => return Err(st.err(ErrorKind::NotASwitch(word(other)))),
+                    other => return Err(st.err(ErrorKind::NotASwitch("shadows", word(other)))),
+                };
+            }
+            "adaptive" => {
+                st.expect(1)?;
+                cam.adaptive = match st.values[0] {
+                    "on" => true,
+                    "off" => false,
+                    other => return Err(st.err(ErrorKind::NotASwitch("adaptive", word(other)))),
                 };
             }
             "light_position" => {

@@ -23,6 +23,47 @@ pub struct Renderer<'a, S: Scalar> {
     scene: &'a Scene<S>,
     camera: Camera<S>,
     samples: u32,
+    adaptive: bool,
+}
+
+/// Lens samples an adaptive pixel takes before it first asks whether its
+/// samples agree, and between later checks.
+pub const ADAPTIVE_BATCH: u32 = 8;
+
+/// The standard error of an adaptive pixel's mean, in 8-bit levels, below
+/// which it stops: 1 level (the bound is on its square, in sixteenths).
+const ADAPTIVE_SE2_SIXTEENTHS: u64 = 16;
+
+/// Running sums of a pixel's samples in 8-bit levels (unclamped: a lamp
+/// brighter than white weighs what it adds to the mean), per channel: what
+/// the adaptive stop decides on, in integers.
+#[derive(Default)]
+struct LevelStats {
+    sum: [u64; 3],
+    sum_sq: [u64; 3],
+}
+
+impl LevelStats {
+    fn add<S: Scalar>(&mut self, c: Vec3<S>) {
+        let level = |x: S| x.mul(S::from_i32(255)).floor_i32().clamp(0, 65535) as u64;
+        for (i, l) in [level(c.x), level(c.y), level(c.z)].into_iter().enumerate() {
+            self.sum[i] += l;
+            self.sum_sq[i] += l * l;
+        }
+    }
+
+    /// Whether the mean of `n >= 2` samples is within the bound of the mean
+    /// of all `full` samples, on every channel: the expected square of their
+    /// difference, s² (1/n − 1/full) with s² the samples' variance, at most
+    /// se². In integers, exactly: (n·Σx² − (Σx)²) · (full − n) · 16 <=
+    /// se²·16 · n² · (n − 1) · full.
+    fn settled(&self, n: u32, full: u32) -> bool {
+        let (n, full) = (n as u128, full as u128);
+        (0..3).all(|i| {
+            let spread = n * self.sum_sq[i] as u128 - self.sum[i] as u128 * self.sum[i] as u128;
+            spread * (full - n) * 16 <= ADAPTIVE_SE2_SIXTEENTHS as u128 * n * n * (n - 1) * full
+        })
+    }
 }
 
 impl<'a, S: Scalar> Renderer<'a, S> {
@@ -32,6 +73,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             scene,
             camera: Camera::new(&scene.camera, cols, rows),
             samples: scene.camera.samples.max(1),
+            adaptive: scene.camera.adaptive,
         }
     }
 
@@ -41,12 +83,25 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         self
     }
 
+    /// Turns adaptive lens sampling on or off (the scene's `adaptive`
+    /// statement sets the default; see [`Renderer::pixel_rays`]).
+    pub fn with_adaptive(mut self, adaptive: bool) -> Self {
+        self.adaptive = adaptive;
+        self
+    }
+
+    /// Whether lens sampling is adaptive.
+    pub fn is_adaptive(&self) -> bool {
+        self.adaptive
+    }
+
     /// The camera in use.
     pub fn camera(&self) -> &Camera<S> {
         &self.camera
     }
 
-    /// Rays cast per pixel: 1 for a pinhole camera, else the sample count.
+    /// Rays cast per pixel: 1 for a pinhole camera, else the sample count
+    /// (with adaptive sampling, the most a pixel casts).
     pub fn rays_per_pixel(&self) -> u32 {
         if self.camera.is_pinhole() {
             1
@@ -57,15 +112,31 @@ impl<'a, S: Scalar> Renderer<'a, S> {
 
     /// The mean colour of pixel (`col`, `row`), unclamped.
     pub fn pixel_colour(&self, col: u32, row: u32) -> Vec3<S> {
+        self.pixel_rays(col, row).0
+    }
+
+    /// The mean colour of pixel (`col`, `row`), unclamped, and the rays it cast.
+    ///
+    /// With adaptive sampling a pixel takes [`ADAPTIVE_BATCH`] lens samples,
+    /// then checks after every further batch whether the mean of its samples,
+    /// as 8-bit levels, is known to within a quarter of a level (its standard
+    /// error); it stops there. Samples that agree (an in-focus pixel, or one
+    /// whose rays all miss every object) stop after the first batch; samples
+    /// that differ (a blurred edge) go on up to the full count. The samples
+    /// taken are the first ones of the full render, so the mean is the same
+    /// kind of estimate, over fewer rays.
+    pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
         let p_film = self.camera.p_film(col, row);
         if self.camera.is_pinhole() {
             let ray = self.camera.chief_ray(p_film);
-            return self.scene.trace(ray.origin, ray.dir);
+            return (self.scene.trace(ray.origin, ray.dir), 1);
         }
         // The pixel's own register: samples independent of row order and threads.
         let mut lfsr = Lfsr::for_pixel(col, row, 0);
         let mut acc = [S::acc_zero(); 3];
-        for _ in 0..self.samples {
+        let mut stats = LevelStats::default();
+        let mut n = 0;
+        while n < self.samples {
             let ray = self.camera.lens_ray(p_film, self.camera.lens_sample(&mut lfsr));
             let c = self.scene.trace(ray.origin, ray.dir);
             acc = [
@@ -73,12 +144,16 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 S::acc_add(acc[1], c.y),
                 S::acc_add(acc[2], c.z),
             ];
+            n += 1;
+            if self.adaptive {
+                stats.add(c);
+                if n % ADAPTIVE_BATCH == 0 && n < self.samples && stats.settled(n, self.samples) {
+                    break;
+                }
+            }
         }
-        Vec3::new(
-            S::acc_mean(acc[0], self.samples),
-            S::acc_mean(acc[1], self.samples),
-            S::acc_mean(acc[2], self.samples),
-        )
+        let colour = Vec3::new(S::acc_mean(acc[0], n), S::acc_mean(acc[1], n), S::acc_mean(acc[2], n));
+        (colour, n)
     }
 
     /// Pixel (`col`, `row`) as 8-bit RGB: each channel clamped and `round(255 v)`.

@@ -43,6 +43,9 @@ pub struct CameraParams {
     /// Rotation of the aperture polygon in degrees (`aperture_rotation`): at 0
     /// a corner points along the camera's u (right); positive turns towards v (up).
     pub aperture_rotation: f64,
+    /// Adaptive lens sampling (`adaptive on|off`): a pixel stops taking lens
+    /// samples once their mean is settled (see [`crate::Renderer::pixel_rays`]).
+    pub adaptive: bool,
 }
 
 impl Default for CameraParams {
@@ -59,6 +62,7 @@ impl Default for CameraParams {
             radius: 0.0,
             aperture_blades: 0,
             aperture_rotation: 0.0,
+            adaptive: false,
         }
     }
 }

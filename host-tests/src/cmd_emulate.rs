@@ -76,6 +76,11 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
         }
     }
     let mut o = parse_opts(&rest)?;
+    if o.adaptive.is_some() {
+        return Err(Fail(
+            "emulate renders the scene file as it is: put `adaptive on` in the scene instead of --adaptive".into(),
+        ));
+    }
     // A small panel's width by default: a microcontroller renders slowly.
     o.width = o.width.or(Some(DEFAULT_WIDTH));
     let [scene_path] = o.positional.as_slice() else {

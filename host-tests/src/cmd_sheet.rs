@@ -63,7 +63,9 @@ fn tiles<S: Scalar + Send + Sync>(o: &RenderOpts) -> Result<Vec<Tile>, Fail> {
             let name = path
                 .file_stem()
                 .map_or_else(|| p.clone(), |s| s.to_string_lossy().into_owned());
-            Ok((name, load_scene::<S>(path)?))
+            let mut scene = load_scene::<S>(path)?;
+            crate::opts::apply_to_scene(o, &mut scene);
+            Ok((name, scene))
         })
         .collect::<Result<_, Fail>>()?;
     let mut tiles = Vec::with_capacity(scenes.len());

@@ -17,6 +17,8 @@ pub(crate) struct RenderOpts {
     pub(crate) height: Option<u32>,
     pub(crate) samples: Option<u32>,
     pub(crate) float: bool,
+    /// `--adaptive on|off`: overrides the scene's `adaptive` statement.
+    pub(crate) adaptive: Option<bool>,
     /// `--passes DIR`: save each progressive pass there.
     pub(crate) passes: Option<PathBuf>,
     /// `--first-step N`: block side of the first progressive pass.
@@ -44,6 +46,14 @@ pub(crate) fn parse_opts(args: &[String]) -> Result<RenderOpts, Fail> {
             "--height" => o.height = Some(parse_u32("--height", it.next(), 1, MAX_SIDE)?),
             "--samples" => o.samples = Some(parse_u32("--samples", it.next(), 1, 65535)?),
             "--float" => o.float = true,
+            "--adaptive" => {
+                o.adaptive = Some(match it.next().map(String::as_str) {
+                    Some("on") => true,
+                    Some("off") => false,
+                    Some(v) => return Err(Fail(format!("--adaptive {v}: must be on or off"))),
+                    None => return Err(Fail("--adaptive needs a value: on or off".into())),
+                })
+            }
             "--passes" => o.passes = Some(PathBuf::from(it.next().ok_or("--passes needs a directory")?)),
             "--first-step" => {
                 o.first_step = Some(parse_u32("--first-step", it.next(), 1, lensray::progressive::MAX_STEP)?)
@@ -54,6 +64,13 @@ pub(crate) fn parse_opts(args: &[String]) -> Result<RenderOpts, Fail> {
         }
     }
     Ok(o)
+}
+
+/// Applies the options that change a loaded scene (`--adaptive`).
+pub(crate) fn apply_to_scene<S: Scalar>(o: &RenderOpts, scene: &mut Scene<S>) {
+    if let Some(a) = o.adaptive {
+        scene.camera.adaptive = a;
+    }
 }
 
 /// Image size: `--width` (640) and `--height` (width / aspect_ratio).
