@@ -2,6 +2,8 @@
 //!
 //! ```text
 //! lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
+//! lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
+//! lensray compare A.bmp B.bmp [--diff OUT]
 //! ```
 //!
 //! Exit status: 0 on success, 2 on any error (bad scene, bad arguments,
@@ -10,17 +12,26 @@
 
 use std::process::ExitCode;
 
+mod cmd_compare;
 mod cmd_render;
 mod opts;
 
 pub(crate) const USAGE: &str = "usage:
   lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
+  lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
+  lensray compare A B [--diff OUT]
 
   render   renders a scene file to OUT (.bmp or .png; default: the scene's
            name with .bmp, in the current directory). --width defaults to 640,
            --height to round(width / aspect_ratio); --samples overrides the
            scene's `point`; --float renders with the f32 reference instead of
-           Q16.16.";
+           Q16.16.
+  compare  renders a scene with Q16.16 and with the f32 reference (same size,
+           same samples; sizes as for render), or reads two images (.bmp or
+           .png), and prints PSNR, mean and max error, the share of pixels
+           within 1, 2 and 8 levels, and the worst row and column. --diff
+           writes the error as a heat map (.png or .bmp): black where equal,
+           brighter where worse, white from 8 levels.";
 
 /// A one-line error for the user; exit status 2.
 pub(crate) struct Fail(pub(crate) String);
@@ -45,6 +56,7 @@ fn main() -> ExitCode {
 fn run(args: &[String]) -> Result<(), Fail> {
     match args.first().map(String::as_str) {
         Some("render") => cmd_render::run(&args[1..]),
+        Some("compare") => cmd_compare::run(&args[1..]),
         Some("-h") | Some("--help") | Some("help") => {
             println!("{USAGE}");
             Ok(())
