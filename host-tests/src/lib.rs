@@ -445,6 +445,29 @@ pub mod measure {
         }
     }
 
+    /// Mean gradient energy over the pixels of a box for which `pred` holds
+    /// (e.g. a ring around a silhouette): as [`gradient_energy`], but
+    /// background texture outside the mask does not count.
+    pub fn gradient_energy_where(img: &Image, b: PixelBox, pred: impl Fn(u32, u32) -> bool) -> f64 {
+        let (x0, y0) = (b.x0.max(1), b.y0.max(1));
+        let (x1, y1) = (b.x1.min(img.width - 1), b.y1.min(img.height - 1));
+        let mut sum = 0.0;
+        let mut n = 0u64;
+        for y in y0..y1 {
+            for x in (x0..x1).filter(|&x| pred(x, y)) {
+                let gx = (luma(img, x + 1, y) - luma(img, x - 1, y)) / 2.0;
+                let gy = (luma(img, x, y + 1) - luma(img, x, y - 1)) / 2.0;
+                sum += gx * gx + gy * gy;
+                n += 1;
+            }
+        }
+        if n == 0 {
+            0.0
+        } else {
+            sum / n as f64
+        }
+    }
+
     /// The smallest box holding every pixel for which `pred` holds, if any.
     pub fn extent(img: &Image, pred: impl Fn(u32, u32) -> bool) -> Option<PixelBox> {
         let mut b: Option<PixelBox> = None;

@@ -26,9 +26,19 @@ fn assert_bar(name: &str, fixed: &Image, float: &Image) -> (Diff, LineErrors) {
     eprintln!("{name}: {:.2} dB, max {}, within 1/2: {:.3} / {:.3} %, worst row {:.3} (bias {:.3}), worst column {:.3} (bias {:.3})",
         d.psnr, d.max, d.within[0] * 100.0, d.within[1] * 100.0, l.worst_row.1, l.worst_row_bias.1, l.worst_col.1, l.worst_col_bias.1);
     assert!(d.psnr >= 45.0, "{name}: PSNR {:.2} dB below 45", d.psnr);
-    assert!(d.within[1] >= 0.995, "{name}: only {:.3} % within 2 levels", d.within[1] * 100.0);
-    assert!(l.worst_row_bias.1 <= 1.0 && l.worst_col_bias.1 <= 1.0, "{name}: biased line: {l:?}");
-    assert!(l.worst_row.1 <= 1.5 && l.worst_col.1 <= 1.5, "{name}: noisy line: {l:?}");
+    assert!(
+        d.within[1] >= 0.995,
+        "{name}: only {:.3} % within 2 levels",
+        d.within[1] * 100.0
+    );
+    assert!(
+        l.worst_row_bias.1 <= 1.0 && l.worst_col_bias.1 <= 1.0,
+        "{name}: biased line: {l:?}"
+    );
+    assert!(
+        l.worst_row.1 <= 1.5 && l.worst_col.1 <= 1.5,
+        "{name}: noisy line: {l:?}"
+    );
     (d, l)
 }
 
@@ -144,7 +154,11 @@ fn trace_sphere_and_floor(o: V, d: V) -> V {
 fn program1_pixel(col: u32, row: u32) -> [f64; 3] {
     let (n, a, zf) = (8.0, 0.2, 8.0);
     let p = 10.0 / 640.0;
-    let film = [-5.0 + p * (col as f64 + 0.5), 480.0 * p / 2.0 - p * (row as f64 + 0.5), -n];
+    let film = [
+        -5.0 + p * (col as f64 + 0.5),
+        480.0 * p / 2.0 - p * (row as f64 + 0.5),
+        -n,
+    ];
     let focus = scale(film, zf / n);
     let mut lfsr = Lfsr::for_pixel(col, row, 0);
     let mut sum = [0.0; 3];
@@ -162,7 +176,10 @@ fn program1_pixel(col: u32, row: u32) -> [f64; 3] {
 #[test]
 fn program1_640x480_70_rays_fixed_matches_f32_and_the_exact_pixels() {
     let text = scene_text("paper-program1.scene");
-    let (fixed, float) = (render_fixed(&text, 640, 480, Some(70)), render_float(&text, 640, 480, Some(70)));
+    let (fixed, float) = (
+        render_fixed(&text, 640, 480, Some(70)),
+        render_float(&text, 640, 480, Some(70)),
+    );
     let d = Diff::of(&fixed, &float).unwrap();
     eprintln!("Program 1, 640x480, 70 rays: {d}");
     assert!(d.psnr >= 40.0, "PSNR {:.2} dB", d.psnr);
@@ -206,8 +223,10 @@ fn program1_640x480_70_rays_fixed_matches_f32_and_the_exact_pixels() {
     };
     // Its widest rows (the cone's base ends above row 300), and its top in the
     // middle columns.
-    let b = lensray_host::measure::extent(&fixed, |x, y| (200..440).contains(&x) && (300..310).contains(&y) && gold(x, y))
-        .expect("the gold sphere");
+    let b = lensray_host::measure::extent(&fixed, |x, y| {
+        (200..440).contains(&x) && (300..310).contains(&y) && gold(x, y)
+    })
+    .expect("the gold sphere");
     let top = lensray_host::measure::extent(&fixed, |x, y| (300..340).contains(&x) && y < 300 && gold(x, y))
         .expect("the gold sphere's top");
     eprintln!("gold sphere's widest rows: {b:?}, top: {top:?}");
