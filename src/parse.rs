@@ -728,15 +728,32 @@ impl<S: Scalar> Parser<S> {
     }
 }
 
-/// Whether an object's matrices fit Q16.16: its centre, its size, and the
-/// inverse's entries (a shape squeezed to 1/32768 would need larger ones).
+/// How far a bounded shape reaches from its centre along the world axis whose
+/// matrix row is `row` (the plane: 0, it is not bounded).
+fn reach(shape: Shape, row: &[f64; 4]) -> f64 {
+    let [a, b, c, _] = *row;
+    match shape {
+        Shape::Plane => 0.0,
+        Shape::Sphere => libm::sqrt(a * a + b * b + c * c),
+        Shape::Cube => libm::fabs(a) + libm::fabs(b) + libm::fabs(c),
+        // A unit disc in x, z swept along y from -1 to 1 (the cone within it).
+        Shape::Cylinder | Shape::Cone => libm::sqrt(a * a + c * c) + libm::fabs(b),
+    }
+}
+
+/// Whether an object fits Q16.16: its matrices' entries, the inverse's
+/// (a shape squeezed to 1/32768 would need larger ones), and every point of
+/// a bounded shape.
 fn in_fixed_range(desc: &ObjectDesc) -> bool {
     let m = &desc.to_world.0;
     let fits = |x: f64| x.abs() < REAL_LIMIT;
     let Some(inv) = desc.to_world.inverse() else {
         return false;
     };
-    m.iter().all(|row| row.iter().all(|&x| fits(x))) && inv.0.iter().all(|row| row[..3].iter().all(|&x| fits(x)))
+    let inside = m.iter().all(|row| fits(libm::fabs(row[3]) + reach(desc.shape, row)));
+    inside
+        && m.iter().all(|row| row.iter().all(|&x| fits(x)))
+        && inv.0.iter().all(|row| row[..3].iter().all(|&x| fits(x)))
 }
 
 #[cfg(test)]

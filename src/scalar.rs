@@ -90,6 +90,13 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     /// `a·x + b·y + c·z (+ t if affine)`, with one rounding at the end.
     fn row_apply(row: &Self::Row, v: [Self; 3], affine: bool) -> Self;
 
+    /// The direction `M v` for the three rows of a matrix, as a unit vector
+    /// with its length `|M v|` and the reciprocal `1 / |M v|`, all from the
+    /// exact product: a large scale (rows of 1/2000) keeps its precision, where
+    /// rounding `M v` to `Self` first would leave it a few bits. A zero result
+    /// gives zeros.
+    fn rows_apply_unit(rows: &[Self::Row; 3], v: [Self; 3]) -> ([Self; 3], Self, Self);
+
     /// The empty accumulator.
     fn acc_zero() -> Self::Acc;
     /// `acc + x`.
@@ -426,6 +433,52 @@ impl Scalar for I16F16 {
         let q = if row.shift == 0 { s } else { shr_round(s, row.shift) };
         I16F16::from_bits(sat32(q))
     }
+    fn rows_apply_unit(rows: &[FixedRow; 3], v: [Self; 3]) -> ([Self; 3], Self, Self) {
+        let zero = ([I16F16::ZERO; 3], I16F16::ZERO, I16F16::ZERO);
+        // Exact sums, row i at scale 2^(shift_i + 16); brought to the finest
+        // common scale 2^(common + 16) in i128 (at most 2^63 · 2^30).
+        let common = rows.iter().map(|r| r.shift).max().unwrap_or(0);
+        let sums: [i128; 3] = core::array::from_fn(|i| {
+            let r = &rows[i];
+            let s = r.m[0] as i128 * v[0].to_bits() as i128
+                + r.m[1] as i128 * v[1].to_bits() as i128
+                + r.m[2] as i128 * v[2].to_bits() as i128;
+            s << (common - r.shift)
+        });
+        let big = sums.iter().map(|s| s.unsigned_abs()).max().unwrap_or(0);
+        if big == 0 {
+            return zero;
+        }
+        // Keep the top 31 bits: x = sums / 2^k, |x| < 2^31.
+        let k = (128 - big.leading_zeros()).saturating_sub(31);
+        let x: [i64; 3] = sums.map(|s| {
+            if k == 0 {
+                s as i64
+            } else {
+                ((s >> (k - 1)) + 1 >> 1) as i64
+            }
+        });
+        let sq: u64 = x.iter().map(|&c| (c * c) as u64).sum();
+        let l = isqrt_u64(sq);
+        let l = if sq - l * l > l { l + 1 } else { l };
+        if l == 0 {
+            return zero;
+        }
+        // Unit components in Q16.16, rounded: x · 2^16 / l.
+        let unit = x.map(|c| {
+            let n = (c << 16).unsigned_abs();
+            let q = ((n + l / 2) / l) as i64;
+            I16F16::from_bits(sat32(if c < 0 { -q } else { q }))
+        });
+        // |M v| = l · 2^k / 2^(common + 16) world units: l · 2^k / 2^common in Q16.16 bits.
+        let len_raw = (l as u128) << k;
+        let len = (len_raw + (1u128 << common >> 1)) >> common;
+        let len = I16F16::from_bits(if len > i32::MAX as u128 { i32::MAX } else { len as i32 });
+        // 1 / |M v| in Q16.16 bits: 2^(32 + common) / (l · 2^k).
+        let inv = ((1u128 << (32 + common)) + len_raw / 2) / len_raw;
+        let inv = I16F16::from_bits(if inv > i32::MAX as u128 { i32::MAX } else { inv as i32 });
+        (unit, len, inv)
+    }
     #[inline]
     fn acc_zero() -> i64 {
         0
@@ -555,6 +608,14 @@ impl Scalar for f32 {
         } else {
             s
         }
+    }
+    fn rows_apply_unit(rows: &[[f32; 4]; 3], v: [Self; 3]) -> ([Self; 3], Self, Self) {
+        let w = rows.map(|r| Self::row_apply(&r, v, false));
+        let (unit, len) = Self::normalize3(w);
+        if len == 0.0 {
+            return ([0.0; 3], 0.0, 0.0);
+        }
+        (unit, len, 1.0 / len)
     }
     #[inline]
     fn acc_zero() -> f64 {

@@ -246,12 +246,26 @@ impl<S: Scalar> Object<S> {
     /// The nearest hit of the world ray `o + t d` (unit `d`) with
     /// `t_min < t < t_max`.
     pub fn intersect(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<Hit<S>> {
+        // The object-space direction as a unit vector, with the factor between
+        // world and object distances: kept as |A d| where that is 1 or more and
+        // as 1 / |A d| where it is below (a large object's 1/2000 would keep only
+        // five bits in Q16.16, its reciprocal all of them).
+        let (ld, len, inv_len) = self.to_object.vector_unit(d);
+        if len == S::ZERO && inv_len == S::ZERO {
+            return None;
+        }
+        let by_len = len >= S::ONE;
+        let to_local = |t: S| if by_len { t.mul(len) } else { t.div(inv_len) };
+        let to_world = |t: S| if by_len { t.div(len) } else { t.mul(inv_len) };
         let Some((center, radius)) = self.bound else {
-            // Unbounded plane: t is shared by both spaces (the map is linear in t).
+            // Unbounded plane: intersected from the ray's own origin.
             let lo = self.to_object.point(o);
-            let ld = self.to_object.vector(d);
-            let h = self.shape.intersect(lo, ld, t_min, t_max)?;
-            return Some(Hit { t: h.t, local: h });
+            let h = self.shape.intersect(lo, ld, to_local(t_min), to_local(t_max))?;
+            let t = to_world(h.t);
+            if t <= t_min || t >= t_max {
+                return None;
+            }
+            return Some(Hit { t, local: h });
         };
         // Cheap reject against the world bounding sphere.
         let oc = center - o;
@@ -265,14 +279,10 @@ impl<S: Scalar> Object<S> {
         // Re-origin the ray at the sphere's edge so object-space numbers stay small.
         let t_off = tc.sub(radius).max(S::ZERO);
         let lo = self.to_object.point(o + d * t_off);
-        let (ld, len) = self.to_object.vector(d).normalize_len();
-        if len == S::ZERO {
-            return None;
-        }
-        let lt_min = t_min.sub(t_off).mul(len);
-        let lt_max = t_max.sub(t_off).mul(len);
+        let lt_min = to_local(t_min.sub(t_off));
+        let lt_max = to_local(t_max.sub(t_off));
         let h = self.shape.intersect(lo, ld, lt_min, lt_max)?;
-        let t = t_off.add(h.t.div(len));
+        let t = t_off.add(to_world(h.t));
         if t <= t_min || t >= t_max {
             return None;
         }
