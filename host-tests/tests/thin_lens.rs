@@ -92,11 +92,25 @@ fn a_tiny_sphere_off_focus_images_as_the_circle_of_confusion() {
              ({:+.1} %), farthest lit pixel {far:.2} px, {lit} pixels lit, centre {centre:.2?}",
             (radius / want - 1.0) * 100.0
         );
-        assert!((radius / want - 1.0).abs() < 0.10, "depth {z}: radius {radius:.3} px, predicted {want:.3}");
+        assert!(
+            (radius / want - 1.0).abs() < 0.10,
+            "depth {z}: radius {radius:.3} px, predicted {want:.3}"
+        );
         // A disc: nothing beyond its rim, and lit out to near it.
-        assert!(far <= c + rho + 1.0, "depth {z}: a pixel lit {far:.2} px out, the rim is at {:.2}", c + rho);
-        assert!(far >= c - 1.5, "depth {z}: lit only to {far:.2} px, the rim is at {:.2}", c + rho);
-        assert!((centre.0 - 40.0).abs() < 0.5 && (centre.1 - 40.0).abs() < 0.5, "{centre:?}");
+        assert!(
+            far <= c + rho + 1.0,
+            "depth {z}: a pixel lit {far:.2} px out, the rim is at {:.2}",
+            c + rho
+        );
+        assert!(
+            far >= c - 1.5,
+            "depth {z}: lit only to {far:.2} px, the rim is at {:.2}",
+            c + rho
+        );
+        assert!(
+            (centre.0 - 40.0).abs() < 0.5 && (centre.1 - 40.0).abs() < 0.5,
+            "{centre:?}"
+        );
     }
 }
 
@@ -109,7 +123,13 @@ fn at_the_focus_depth_the_tiny_sphere_shrinks_to_a_pixel() {
     let img = tiny_sphere(z, 0.75 * z * PITCH / N, 1.0, 256);
     let (centre, radius, far, lit) = disc(&img);
     eprintln!("depth {z} (in focus): measured radius {radius:.3} px, farthest lit {far:.2}, {lit} pixel(s) lit");
-    assert!(lit <= 5 && far <= 1.0 && radius <= 1.0, "{lit} pixels lit, radius {radius}");
-    assert_eq!(img.get(40, 40), embedded_graphics::pixelcolor::Rgb888::new(255, 255, 255));
+    assert!(
+        lit <= 5 && far <= 1.0 && radius <= 1.0,
+        "{lit} pixels lit, radius {radius}"
+    );
+    assert_eq!(
+        img.get(40, 40),
+        embedded_graphics::pixelcolor::Rgb888::new(255, 255, 255)
+    );
     assert!((centre.0 - 40.0).abs() < 0.5 && (centre.1 - 40.0).abs() < 0.5);
 }
