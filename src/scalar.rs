@@ -97,6 +97,28 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     /// gives zeros.
     fn rows_apply_unit(rows: &[Self::Row; 3], v: [Self; 3]) -> ([Self; 3], Self, Self);
 
+    /// A ray direction held more precisely than three `Self` values (Q16.16:
+    /// 31-bit mantissas with a shared power of two), for the unbounded plane,
+    /// whose hits along a grazing ray move by the ray's direction error times
+    /// the square of the distance.
+    type Dir: Copy + core::fmt::Debug + Send + Sync;
+    /// A vector as a precise direction, exactly.
+    fn dir_from(v: [Self; 3]) -> Self::Dir;
+    /// The rows of a matrix applied to a precise direction, from the exact
+    /// product (no rounding but the final 31-bit mantissas).
+    fn rows_apply_dir(rows: &[Self::Row; 3], d: Self::Dir) -> Self::Dir;
+    /// The rows of a matrix applied to a point, with translation, exactly, as
+    /// a precise direction (the camera's film point).
+    fn rows_apply_point_dir(rows: &[Self::Row; 3], v: [Self; 3]) -> Self::Dir;
+    /// `p - (sx · k, sy · k, 0)` exactly, for a lens sample `(sx, sy)` in Q1.15
+    /// (the camera's direction from a lens point towards its point in focus).
+    fn dir_minus_lens(p: Self::Dir, lens: (i32, i32), k: Self) -> Self::Dir;
+    /// Where the ray `lo + s · ld` meets the plane z = 0, for `s > 0`, with
+    /// `world` the same ray's direction in world space (so that distances are
+    /// world distances): `(t, x, y)`, t the world distance, (x, y, 0) the
+    /// object-space point. `None` when the ray is parallel to the plane.
+    fn plane_cross(lo: [Self; 3], ld: Self::Dir, world: Self::Dir) -> Option<(Self, Self, Self)>;
+
     /// The empty accumulator.
     fn acc_zero() -> Self::Acc;
     /// `acc + x`.
@@ -134,6 +156,58 @@ pub struct FixedRow {
     m: [i32; 3],
     t: i64,
     shift: u32,
+}
+
+/// Q16.16's precise direction: `m[i] · 2^e`, with `|m[i]| < 2^31`.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct FixedDir {
+    m: [i64; 3],
+    e: i32,
+}
+
+impl FixedDir {
+    /// Normalises exact i128 components at scale `2^e` to 31-bit mantissas.
+    fn from_wide(w: [i128; 3], e: i32) -> FixedDir {
+        let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
+        let k = (128 - big.leading_zeros()).saturating_sub(31);
+        let m = w.map(|x| {
+            if k == 0 {
+                x as i64
+            } else {
+                (((x >> (k - 1)) + 1) >> 1) as i64
+            }
+        });
+        FixedDir { m, e: e + k as i32 }
+    }
+
+    /// `|self|` as a mantissa below 2^32 at scale `2^e`.
+    fn length(&self) -> u64 {
+        let sq: u64 = self.m.iter().map(|&c| (c * c) as u64).sum();
+        let l = isqrt_u64(sq);
+        if sq - l * l > l {
+            l + 1
+        } else {
+            l
+        }
+    }
+}
+
+/// Saturates an i128 to the i32 range.
+#[inline]
+fn sat32_wide(x: i128) -> i32 {
+    x.clamp(i32::MIN as i128, i32::MAX as i128) as i32
+}
+
+/// `n / d` rounded to nearest (ties away from zero), for `d != 0`.
+#[inline]
+fn div_round(n: i128, d: i128) -> i128 {
+    let (nu, du) = (n.unsigned_abs(), d.unsigned_abs());
+    let q = ((nu + du / 2) / du) as i128;
+    if (n < 0) != (d < 0) {
+        -q
+    } else {
+        q
+    }
 }
 
 /// Saturates an i64 to the i32 range.
@@ -242,6 +316,7 @@ impl Scalar for I16F16 {
     const NAME: &'static str = "Q16.16";
     type Row = FixedRow;
     type Acc = i64;
+    type Dir = FixedDir;
 
     fn from_f64(x: f64) -> Self {
         let r = x * 65536.0;
@@ -479,6 +554,84 @@ impl Scalar for I16F16 {
         let inv = I16F16::from_bits(if inv > i32::MAX as u128 { i32::MAX } else { inv as i32 });
         (unit, len, inv)
     }
+    fn dir_from(v: [Self; 3]) -> FixedDir {
+        FixedDir {
+            m: v.map(|x| x.to_bits() as i64),
+            e: -16,
+        }
+    }
+    fn rows_apply_dir(rows: &[FixedRow; 3], d: FixedDir) -> FixedDir {
+        // Row i at scale 2^-shift_i; brought to the finest common scale.
+        let common = rows.iter().map(|r| r.shift).max().unwrap_or(0);
+        let w: [i128; 3] = core::array::from_fn(|i| {
+            let r = &rows[i];
+            let s = r.m[0] as i128 * d.m[0] as i128 + r.m[1] as i128 * d.m[1] as i128 + r.m[2] as i128 * d.m[2] as i128;
+            s << (common - r.shift)
+        });
+        FixedDir::from_wide(w, d.e - common as i32)
+    }
+    fn rows_apply_point_dir(rows: &[FixedRow; 3], v: [Self; 3]) -> FixedDir {
+        // Row i's product is at scale 2^-(shift_i + 16), its translation too.
+        let common = rows.iter().map(|r| r.shift).max().unwrap_or(0);
+        let w: [i128; 3] = core::array::from_fn(|i| {
+            let r = &rows[i];
+            let s = r.m[0] as i128 * v[0].to_bits() as i128
+                + r.m[1] as i128 * v[1].to_bits() as i128
+                + r.m[2] as i128 * v[2].to_bits() as i128
+                + r.t as i128;
+            s << (common - r.shift)
+        });
+        FixedDir::from_wide(w, -(common as i32) - 16)
+    }
+    fn dir_minus_lens(p: FixedDir, lens: (i32, i32), k: Self) -> FixedDir {
+        // The lens term is exact at 2^-31 (Q1.15 times Q16.16); p at 2^e.
+        let common = p.e.min(-31);
+        let (sp, sl) = ((p.e - common).min(90) as u32, (-31 - common) as u32);
+        let kb = k.to_bits() as i128;
+        let w = [
+            ((p.m[0] as i128) << sp) - ((lens.0 as i128 * kb) << sl),
+            ((p.m[1] as i128) << sp) - ((lens.1 as i128 * kb) << sl),
+            (p.m[2] as i128) << sp,
+        ];
+        FixedDir::from_wide(w, common)
+    }
+    fn plane_cross(lo: [Self; 3], ld: FixedDir, world: FixedDir) -> Option<(Self, Self, Self)> {
+        let dz = ld.m[2] as i128;
+        if dz == 0 {
+            return None;
+        }
+        let oz = lo[2].to_bits() as i128;
+        // s = -oz / dz (object units of ld); t = s · |world| = -oz · l / dz · 2^(e_w - e_l).
+        let l = world.length() as i128;
+        let num = -oz * l;
+        let shift = world.e - ld.e;
+        let t = if shift >= 0 {
+            if shift > 60 {
+                if num == 0 {
+                    0
+                } else {
+                    i128::MAX / 2 * num.signum()
+                }
+            } else {
+                div_round(num << shift, dz)
+            }
+        } else if shift < -90 {
+            0
+        } else {
+            div_round(num, dz << (-shift))
+        };
+        if t <= 0 {
+            return None;
+        }
+        // x = ox - ld.x · oz / ld.z: the mantissas' ratio needs no exponent.
+        let x = lo[0].to_bits() as i128 - div_round(ld.m[0] as i128 * oz, dz);
+        let y = lo[1].to_bits() as i128 - div_round(ld.m[1] as i128 * oz, dz);
+        Some((
+            I16F16::from_bits(sat32_wide(t)),
+            I16F16::from_bits(sat32_wide(x)),
+            I16F16::from_bits(sat32_wide(y)),
+        ))
+    }
     #[inline]
     fn acc_zero() -> i64 {
         0
@@ -515,6 +668,7 @@ impl Scalar for f32 {
     /// sum is exact in i64): an f32 sum of seventy 0.1s lands below 7 and turns
     /// a colour of exactly 25.5 levels into 25 instead of 26.
     type Acc = f64;
+    type Dir = [f32; 3];
 
     fn from_f64(x: f64) -> Self {
         x as f32
@@ -616,6 +770,32 @@ impl Scalar for f32 {
             return ([0.0; 3], 0.0, 0.0);
         }
         (unit, len, 1.0 / len)
+    }
+    fn dir_from(v: [Self; 3]) -> [f32; 3] {
+        v
+    }
+    fn rows_apply_dir(rows: &[[f32; 4]; 3], d: [f32; 3]) -> [f32; 3] {
+        rows.map(|r| Self::row_apply(&r, d, false))
+    }
+    fn rows_apply_point_dir(rows: &[[f32; 4]; 3], v: [Self; 3]) -> [f32; 3] {
+        rows.map(|r| Self::row_apply(&r, v, true))
+    }
+    fn dir_minus_lens(p: [f32; 3], lens: (i32, i32), k: Self) -> [f32; 3] {
+        [
+            p[0] - Self::from_q15(lens.0) * k,
+            p[1] - Self::from_q15(lens.1) * k,
+            p[2],
+        ]
+    }
+    fn plane_cross(lo: [Self; 3], ld: [f32; 3], world: [f32; 3]) -> Option<(Self, Self, Self)> {
+        if ld[2] == 0.0 {
+            return None;
+        }
+        let s = -lo[2] / ld[2];
+        if s <= 0.0 {
+            return None;
+        }
+        Some((s * Self::length3(world), lo[0] + ld[0] * s, lo[1] + ld[1] * s))
     }
     #[inline]
     fn acc_zero() -> f64 {

@@ -4,12 +4,13 @@
 //! checks on, so any arithmetic overflow on the fixed path panics here.
 //!
 //! Thresholds, held for every stress scene at 160x120 with 16 rays a pixel
-//! (measured: README "Accuracy"): PSNR >= 48 dB, >= 98 % of pixels within 2
-//! levels, no row or column biased by more than 1 level, and no row or column
-//! whose mean error exceeds 3 levels. Lower than the paper's scenes' bar: the
-//! differences sit where a far checkerboard is finer than a pixel (a square
-//! flips with the 17th bit of a ray's direction, in either renderer) and at
-//! silhouettes 2000 units away.
+//! (measured: README "Accuracy"): PSNR >= 50 dB, >= 99.5 % of pixels within 2
+//! levels, and no row or column whose mean error, or mean signed error in any
+//! channel, exceeds 1 level. Hits farther than 32767 from a ray's origin are
+//! beyond Q16.16 and count as misses (docs/accuracy.md): for an eye h above a
+//! plane, a band h / 32768 radians below the horizon, under a twentieth of a
+//! row in these scenes (h <= 10); the edge-of-range scene, 2000 units from its
+//! objects, has no plane for that reason.
 
 mod common;
 
@@ -42,9 +43,9 @@ fn stress_scenes_never_overflow_and_agree_with_f32() {
             l.worst_col.1,
             l.worst_col_bias.1
         );
-        assert!(d.psnr >= 48.0, "{name}: PSNR {:.2}", d.psnr);
-        assert!(d.within[1] >= 0.98, "{name}: {:.3} % within 2", d.within[1] * 100.0);
+        assert!(d.psnr >= 50.0, "{name}: PSNR {:.2}", d.psnr);
+        assert!(d.within[1] >= 0.995, "{name}: {:.3} % within 2", d.within[1] * 100.0);
         assert!(l.worst_row_bias.1 <= 1.0 && l.worst_col_bias.1 <= 1.0, "{name}: {l:?}");
-        assert!(l.worst_row.1 <= 3.0 && l.worst_col.1 <= 3.0, "{name}: {l:?}");
+        assert!(l.worst_row.1 <= 1.0 && l.worst_col.1 <= 1.0, "{name}: {l:?}");
     }
 }
