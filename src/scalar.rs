@@ -530,7 +530,7 @@ impl Scalar for I16F16 {
             if k == 0 {
                 s as i64
             } else {
-                ((s >> (k - 1)) + 1 >> 1) as i64
+                (((s >> (k - 1)) + 1) >> 1) as i64
             }
         });
         let sq: u64 = x.iter().map(|&c| (c * c) as u64).sum();

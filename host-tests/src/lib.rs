@@ -347,8 +347,8 @@ impl LineErrors {
             let m = d.iter().map(|x| x.abs()).max().unwrap_or(0);
             for line in [&mut rows[i / w], &mut cols[i % w]] {
                 line.0 += m;
-                for k in 0..3 {
-                    line.1[k] += d[k];
+                for (sum, x) in line.1.iter_mut().zip(d) {
+                    *sum += x;
                 }
             }
         }
