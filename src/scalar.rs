@@ -192,10 +192,16 @@ impl FixedDir {
     }
 }
 
-/// Saturates an i128 to the i32 range.
+/// `n / d` rounded to nearest (ties away from zero), for `d != 0`, in i64.
 #[inline]
-fn sat32_wide(x: i128) -> i32 {
-    x.clamp(i32::MIN as i128, i32::MAX as i128) as i32
+fn div_round_i64(n: i64, d: i64) -> i64 {
+    let (nu, du) = (n.unsigned_abs(), d.unsigned_abs());
+    let q = (nu / du + u64::from(nu % du >= du - du / 2)) as i64;
+    if (n < 0) != (d < 0) {
+        -q
+    } else {
+        q
+    }
 }
 
 /// `n / d` rounded to nearest (ties away from zero), for `d != 0`.
@@ -539,18 +545,26 @@ impl Scalar for I16F16 {
         if l == 0 {
             return zero;
         }
-        // Unit components in Q16.16, rounded: x · 2^16 / l.
+        // Unit components in Q16.16, rounded: x · 2^16 / l, through one
+        // reciprocal 2^62 / l (l > 2^29 as the largest |x| is at least 2^30
+        // unless the product itself is that small; then x · recip still fits).
+        let recip = (1u64 << 62) / l;
         let unit = x.map(|c| {
-            let n = (c << 16).unsigned_abs();
-            let q = ((n + l / 2) / l) as i64;
+            let p = c.unsigned_abs() as u128 * recip as u128;
+            let q = ((p + (1 << 45)) >> 46) as i64;
             I16F16::from_bits(sat32(if c < 0 { -q } else { q }))
         });
         // |M v| = l · 2^k / 2^(common + 16) world units: l · 2^k / 2^common in Q16.16 bits.
         let len_raw = (l as u128) << k;
         let len = (len_raw + (1u128 << common >> 1)) >> common;
         let len = I16F16::from_bits(if len > i32::MAX as u128 { i32::MAX } else { len as i32 });
-        // 1 / |M v| in Q16.16 bits: 2^(32 + common) / (l · 2^k).
-        let inv = ((1u128 << (32 + common)) + len_raw / 2) / len_raw;
+        // 1 / |M v| in Q16.16 bits: 2^(32 + common) / (l · 2^k), in u64 when it fits.
+        let inv = if len_raw >> 62 == 0 {
+            let d = len_raw as u64;
+            (((1u64 << (32 + common)) + d / 2) / d) as u128
+        } else {
+            ((1u128 << (32 + common)) + len_raw / 2) / len_raw
+        };
         let inv = I16F16::from_bits(if inv > i32::MAX as u128 { i32::MAX } else { inv as i32 });
         (unit, len, inv)
     }
@@ -596,40 +610,40 @@ impl Scalar for I16F16 {
         FixedDir::from_wide(w, common)
     }
     fn plane_cross(lo: [Self; 3], ld: FixedDir, world: FixedDir) -> Option<(Self, Self, Self)> {
-        let dz = ld.m[2] as i128;
+        let dz = ld.m[2];
         if dz == 0 {
             return None;
         }
-        let oz = lo[2].to_bits() as i128;
+        let oz = lo[2].to_bits() as i64;
         // s = -oz / dz (object units of ld); t = s · |world| = -oz · l / dz · 2^(e_w - e_l).
-        let l = world.length() as i128;
-        let num = -oz * l;
+        // |oz| <= 2^31 and l < 2^32: the product fits an i64 with a bit to spare.
+        let num = -oz * world.length() as i64;
         let shift = world.e - ld.e;
-        let t = if shift >= 0 {
-            if shift > 60 {
-                if num == 0 {
-                    0
-                } else {
-                    i128::MAX / 2 * num.signum()
-                }
+        let t = if (0..=62).contains(&shift) && num.unsigned_abs() >> (62 - shift) == 0 {
+            div_round_i64(num << shift, dz)
+        } else if (-62..0).contains(&shift) && dz.unsigned_abs() >> (62 + shift) == 0 {
+            div_round_i64(num, dz << -shift)
+        } else if shift > 0 {
+            // Farther than any Q16.16 distance (or exactly on the plane).
+            if num == 0 {
+                0
             } else {
-                div_round(num << shift, dz)
+                i64::MAX * num.signum()
             }
-        } else if shift < -90 {
-            0
         } else {
-            div_round(num, dz << (-shift))
+            div_round(num as i128, (dz as i128) << (-shift).min(90)) as i64
         };
         if t <= 0 {
             return None;
         }
-        // x = ox - ld.x · oz / ld.z: the mantissas' ratio needs no exponent.
-        let x = lo[0].to_bits() as i128 - div_round(ld.m[0] as i128 * oz, dz);
-        let y = lo[1].to_bits() as i128 - div_round(ld.m[1] as i128 * oz, dz);
+        // x = ox - ld.x · oz / ld.z: the mantissas' ratio needs no exponent;
+        // each product is below 2^62.
+        let x = lo[0].to_bits() as i64 - div_round_i64(ld.m[0] * oz, dz);
+        let y = lo[1].to_bits() as i64 - div_round_i64(ld.m[1] * oz, dz);
         Some((
-            I16F16::from_bits(sat32_wide(t)),
-            I16F16::from_bits(sat32_wide(x)),
-            I16F16::from_bits(sat32_wide(y)),
+            I16F16::from_bits(sat32(t)),
+            I16F16::from_bits(sat32(x)),
+            I16F16::from_bits(sat32(y)),
         ))
     }
     #[inline]

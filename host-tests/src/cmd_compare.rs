@@ -59,7 +59,7 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
                 ));
             }
             let (a, b) = (load_image(Path::new(first))?, load_image(Path::new(second))?);
-            println!("{first} against {second}");
+            say(format_args!("{first} against {second}"));
             (a, b)
         }
         _ => return Err(Fail(format!("compare takes one scene file or two images\n{USAGE}"))),
@@ -71,9 +71,9 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
         ))
     };
     let diff = Diff::of(&a, &b).ok_or_else(mismatch)?;
-    println!("{diff}");
+    say(format_args!("{diff}"));
     if let Some(lines) = LineErrors::of(&a, &b) {
-        println!("{lines}");
+        say(format_args!("{lines}"));
     }
     if let (Some(path), Some(format)) = (&o.diff, diff_format) {
         let heat = Diff::heat_map(&a, &b).ok_or_else(mismatch)?;
@@ -87,6 +87,12 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     Ok(())
 }
 
+/// Prints a line to stdout; a closed pipe (`| head`) is not an error worth a panic.
+fn say(args: std::fmt::Arguments<'_>) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stdout().lock(), "{args}");
+}
+
 /// Renders a scene with Q16.16 and with f32: (Q16.16 image, f32 image).
 fn compare_scene(path: &Path, o: &RenderOpts) -> Result<(Image, Image), Fail> {
     let fixed = load_scene::<I16F16>(path)?;
@@ -96,11 +102,11 @@ fn compare_scene(path: &Path, o: &RenderOpts) -> Result<(Image, Image), Fail> {
     if let Some(n) = o.samples {
         probe = probe.with_samples(n);
     }
-    println!(
+    say(format_args!(
         "{}: Q16.16 against f32, {w}x{h}, {} ray(s) a pixel",
         path.display(),
         probe.rays_per_pixel()
-    );
+    ));
     let a = render_with_progress(&fixed, w, h, o.samples);
     let b = render_with_progress(&float, w, h, o.samples);
     Ok((a, b))
