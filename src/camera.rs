@@ -41,7 +41,7 @@ pub struct Camera<S: Scalar> {
 }
 
 /// A primary ray in world space, with a unit direction.
-#[derive(Copy, Clone, Debug)]
+#[derive(Copy, Clone, Debug, PartialEq)]
 pub struct Ray<S: Scalar> {
     /// Origin: the lens point.
     pub origin: Vec3<S>,
@@ -215,7 +215,7 @@ impl<S: Scalar> Camera<S> {
 /// A pixel's film point in the camera frame: rounded to `S`, and held
 /// precisely (exact products, see [`Scalar::Dir`]) for the rays' precise
 /// directions.
-#[derive(Copy, Clone, Debug)]
+#[derive(Copy, Clone, Debug, PartialEq)]
 pub struct FilmPoint<S: Scalar> {
     /// The film point, rounded.
     pub p: Vec3<S>,

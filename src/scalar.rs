@@ -101,7 +101,7 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     /// 31-bit mantissas with a shared power of two), for the unbounded plane,
     /// whose hits along a grazing ray move by the ray's direction error times
     /// the square of the distance.
-    type Dir: Copy + core::fmt::Debug + Send + Sync;
+    type Dir: Copy + core::fmt::Debug + PartialEq + Send + Sync;
     /// A vector as a precise direction, exactly.
     fn dir_from(v: [Self; 3]) -> Self::Dir;
     /// The rows of a matrix applied to a precise direction, from the exact
