@@ -91,10 +91,10 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     fn row_apply(row: &Self::Row, v: [Self; 3], affine: bool) -> Self;
 
     /// The direction `M v` for the three rows of a matrix, as a unit vector
-    /// with its length `|M v|` and the reciprocal `1 / |M v|`, all from the
-    /// exact product: a large scale (rows of 1/2000) keeps its precision, where
-    /// rounding `M v` to `Self` first would leave it a few bits. A zero result
-    /// gives zeros.
+    /// with its length `|M v|` and, where that is below 1, the reciprocal
+    /// `1 / |M v|` (0 otherwise), all from the exact product: a large scale
+    /// (rows of 1/2000) keeps its precision, where rounding `M v` to `Self`
+    /// first would leave it a few bits. A zero result gives zeros.
     fn rows_apply_unit(rows: &[Self::Row; 3], v: [Self; 3]) -> ([Self; 3], Self, Self);
 
     /// A ray direction held more precisely than three `Self` values (Q16.16:
@@ -178,6 +178,36 @@ impl FixedDir {
             }
         });
         FixedDir { m, e: e + k as i32 }
+    }
+
+    /// Normalises exact i64 components at scale `2^e` to 31-bit mantissas.
+    #[inline]
+    fn from_i64(w: [i64; 3], e: i32) -> FixedDir {
+        let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
+        let k = (64 - big.leading_zeros()).saturating_sub(31);
+        let m = if k == 0 {
+            w
+        } else {
+            w.map(|x| ((x >> (k - 1)) + 1) >> 1)
+        };
+        FixedDir { m, e: e + k as i32 }
+    }
+
+    /// `rows · v` (+ the translation if `affine`) exactly, for `v` in Q16.16
+    /// bits or mantissas below 2^31, as a direction at scale `2^(e - shift)`.
+    /// Each product is below 2^61 and the translation below 2^60: an i64 sum
+    /// holds a row; rows of different scales meet in i128.
+    #[inline]
+    fn exact_rows(rows: &[FixedRow; 3], v: [i64; 3], affine: bool, e: i32) -> FixedDir {
+        let row = |r: &FixedRow| {
+            r.m[0] as i64 * v[0] + r.m[1] as i64 * v[1] + r.m[2] as i64 * v[2] + if affine { r.t } else { 0 }
+        };
+        let common = rows.iter().map(|r| r.shift).max().unwrap_or(0);
+        if rows.iter().all(|r| r.shift == common) {
+            return FixedDir::from_i64([row(&rows[0]), row(&rows[1]), row(&rows[2])], e - common as i32);
+        }
+        let w: [i128; 3] = core::array::from_fn(|i| (row(&rows[i]) as i128) << (common - rows[i].shift));
+        FixedDir::from_wide(w, e - common as i32)
     }
 
     /// `|self|` as a mantissa below 2^32 at scale `2^e`.
@@ -516,56 +546,48 @@ impl Scalar for I16F16 {
     }
     fn rows_apply_unit(rows: &[FixedRow; 3], v: [Self; 3]) -> ([Self; 3], Self, Self) {
         let zero = ([I16F16::ZERO; 3], I16F16::ZERO, I16F16::ZERO);
-        // Exact sums, row i at scale 2^(shift_i + 16); brought to the finest
-        // common scale 2^(common + 16) in i128 (at most 2^63 · 2^30).
-        let common = rows.iter().map(|r| r.shift).max().unwrap_or(0);
-        let sums: [i128; 3] = core::array::from_fn(|i| {
-            let r = &rows[i];
-            let s = r.m[0] as i128 * v[0].to_bits() as i128
-                + r.m[1] as i128 * v[1].to_bits() as i128
-                + r.m[2] as i128 * v[2].to_bits() as i128;
-            s << (common - r.shift)
-        });
-        let big = sums.iter().map(|s| s.unsigned_abs()).max().unwrap_or(0);
-        if big == 0 {
-            return zero;
+        // The exact product as mantissas x at scale 2^e, cut to 21 bits: the
+        // unit vector needs 17, and the square root's cost grows with the width.
+        let mut d = FixedDir::exact_rows(rows, v.map(|x| x.to_bits() as i64), false, 0);
+        let cut = (64 - d.m.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0).leading_zeros()).saturating_sub(21);
+        if cut > 0 {
+            d.m = d.m.map(|x| ((x >> (cut - 1)) + 1) >> 1);
+            d.e += cut as i32;
         }
-        // Keep the top 31 bits: x = sums / 2^k, |x| < 2^31.
-        let k = (128 - big.leading_zeros()).saturating_sub(31);
-        let x: [i64; 3] = sums.map(|s| {
-            if k == 0 {
-                s as i64
-            } else {
-                (((s >> (k - 1)) + 1) >> 1) as i64
-            }
-        });
-        let sq: u64 = x.iter().map(|&c| (c * c) as u64).sum();
-        let l = isqrt_u64(sq);
-        let l = if sq - l * l > l { l + 1 } else { l };
+        let l = d.length();
         if l == 0 {
             return zero;
         }
         // Unit components in Q16.16, rounded: x · 2^16 / l, through one
-        // reciprocal 2^62 / l (l > 2^29 as the largest |x| is at least 2^30
-        // unless the product itself is that small; then x · recip still fits).
+        // reciprocal 2^62 / l; |x| <= l keeps x · recip below 2^62.
         let recip = (1u64 << 62) / l;
-        let unit = x.map(|c| {
-            let p = c.unsigned_abs() as u128 * recip as u128;
-            let q = ((p + (1 << 45)) >> 46) as i64;
+        let unit = d.m.map(|c| {
+            let q = ((c.unsigned_abs() * recip + (1 << 45)) >> 46) as i64;
             I16F16::from_bits(sat32(if c < 0 { -q } else { q }))
         });
-        // |M v| = l · 2^k / 2^(common + 16) world units: l · 2^k / 2^common in Q16.16 bits.
-        let len_raw = (l as u128) << k;
-        let len = (len_raw + (1u128 << common >> 1)) >> common;
-        let len = I16F16::from_bits(if len > i32::MAX as u128 { i32::MAX } else { len as i32 });
-        // 1 / |M v| in Q16.16 bits: 2^(32 + common) / (l · 2^k), in u64 when it fits.
-        let inv = if len_raw >> 62 == 0 {
-            let d = len_raw as u64;
-            (((1u64 << (32 + common)) + d / 2) / d) as u128
-        } else {
-            ((1u128 << (32 + common)) + len_raw / 2) / len_raw
+        // The product's value is x · 2^(e - 16): |M v| is l · 2^e in Q16.16 bits.
+        let e = d.e;
+        let shifted = |x: u64, s: i32| -> u64 {
+            if s >= 0 {
+                if s >= 32 || x >> (63 - s) != 0 {
+                    u64::MAX
+                } else {
+                    x << s
+                }
+            } else if s <= -64 {
+                0
+            } else {
+                (x + (1 << (-s - 1))) >> -s
+            }
         };
-        let inv = I16F16::from_bits(if inv > i32::MAX as u128 { i32::MAX } else { inv as i32 });
+        let len_bits = shifted(l, e);
+        let len = I16F16::from_bits(len_bits.min(i32::MAX as u64) as i32);
+        // 1 / |M v| in Q16.16 bits, 2^32 / (l · 2^e): needed only below 1.
+        let inv = if len_bits >= 1 << 16 {
+            I16F16::ZERO
+        } else {
+            I16F16::from_bits(shifted(recip, -30 - e).min(i32::MAX as u64) as i32)
+        };
         (unit, len, inv)
     }
     fn dir_from(v: [Self; 3]) -> FixedDir {
@@ -575,27 +597,11 @@ impl Scalar for I16F16 {
         }
     }
     fn rows_apply_dir(rows: &[FixedRow; 3], d: FixedDir) -> FixedDir {
-        // Row i at scale 2^-shift_i; brought to the finest common scale.
-        let common = rows.iter().map(|r| r.shift).max().unwrap_or(0);
-        let w: [i128; 3] = core::array::from_fn(|i| {
-            let r = &rows[i];
-            let s = r.m[0] as i128 * d.m[0] as i128 + r.m[1] as i128 * d.m[1] as i128 + r.m[2] as i128 * d.m[2] as i128;
-            s << (common - r.shift)
-        });
-        FixedDir::from_wide(w, d.e - common as i32)
+        FixedDir::exact_rows(rows, d.m, false, d.e)
     }
     fn rows_apply_point_dir(rows: &[FixedRow; 3], v: [Self; 3]) -> FixedDir {
-        // Row i's product is at scale 2^-(shift_i + 16), its translation too.
-        let common = rows.iter().map(|r| r.shift).max().unwrap_or(0);
-        let w: [i128; 3] = core::array::from_fn(|i| {
-            let r = &rows[i];
-            let s = r.m[0] as i128 * v[0].to_bits() as i128
-                + r.m[1] as i128 * v[1].to_bits() as i128
-                + r.m[2] as i128 * v[2].to_bits() as i128
-                + r.t as i128;
-            s << (common - r.shift)
-        });
-        FixedDir::from_wide(w, -(common as i32) - 16)
+        // The translation is at the products' scale 2^-(shift + 16).
+        FixedDir::exact_rows(rows, v.map(|x| x.to_bits() as i64), true, -16)
     }
     fn dir_minus_lens(p: FixedDir, lens: (i32, i32), k: Self) -> FixedDir {
         // The lens term is exact at 2^-31 (Q1.15 times Q16.16); p at 2^e.
@@ -617,6 +623,22 @@ impl Scalar for I16F16 {
         let oz = lo[2].to_bits() as i64;
         // s = -oz / dz (object units of ld); t = s · |world| = -oz · l / dz · 2^(e_w - e_l).
         // |oz| <= 2^31 and l < 2^32: the product fits an i64 with a bit to spare.
+        // |world| from mantissas cut to 21 bits (relative 2^-21 is plenty for
+        // t, and the square root's cost grows with the width).
+        let mut world = world;
+        let cut = (64
+            - world
+                .m
+                .iter()
+                .map(|x| x.unsigned_abs())
+                .max()
+                .unwrap_or(0)
+                .leading_zeros())
+        .saturating_sub(21);
+        if cut > 0 {
+            world.m = world.m.map(|x| ((x >> (cut - 1)) + 1) >> 1);
+            world.e += cut as i32;
+        }
         let num = -oz * world.length() as i64;
         let shift = world.e - ld.e;
         let t = if (0..=62).contains(&shift) && num.unsigned_abs() >> (62 - shift) == 0 {
@@ -783,7 +805,7 @@ impl Scalar for f32 {
         if len == 0.0 {
             return ([0.0; 3], 0.0, 0.0);
         }
-        (unit, len, 1.0 / len)
+        (unit, len, if len >= 1.0 { 0.0 } else { 1.0 / len })
     }
     fn dir_from(v: [Self; 3]) -> [f32; 3] {
         v
