@@ -139,6 +139,14 @@ pub enum ErrorKind {
     /// An object's transform puts it beyond Q16.16's range (±32768), or
     /// squeezes it flat.
     ObjectOutOfRange,
+    /// Part of an object lies 32768 or more from the lens or a light along an
+    /// axis: Q16.16 cannot hold the difference of their coordinates.
+    TooFar {
+        /// "the lens" or "the light".
+        from: &'static str,
+        /// The line of that lens or light (0: the default lens at the origin).
+        line: u32,
+    },
 }
 
 /// A scene that breaks the format: the 1-based line and what is wrong.
@@ -206,6 +214,14 @@ impl fmt::Display for ErrorKind {
             ObjectOutOfRange => write!(
                 f,
                 "object: its transformations put it beyond the range of Q16.16 (coordinates below 32768)"
+            ),
+            TooFar { from, line: 0 } => write!(
+                f,
+                "object: part of it lies 32768 or more from {from} at the origin along an axis, beyond the range of Q16.16"
+            ),
+            TooFar { from, line } => write!(
+                f,
+                "object: part of it lies 32768 or more from {from} of line {line} along an axis, beyond the range of Q16.16"
             ),
         }
     }
@@ -444,6 +460,8 @@ impl<S: Scalar> Scene<S> {
             scene: Scene::default(),
             object: None,
             lines: CameraLines::default(),
+            placed: heapless::Vec::new(),
+            light_at: heapless::Vec::new(),
         };
         for (i, raw) in bytes.split(|&b| b == b'\n').enumerate() {
             let line = u32::try_from(i + 1).unwrap_or(u32::MAX);
@@ -477,6 +495,7 @@ impl<S: Scalar> Scene<S> {
 /// Lines of the camera statements the final checks refer to.
 #[derive(Default)]
 struct CameraLines {
+    lens_position: u32,
     focal_length: u32,
     image_distance: u32,
     look: u32,
@@ -487,6 +506,10 @@ struct Parser<S: Scalar> {
     scene: Scene<S>,
     object: Option<Pending>,
     lines: CameraLines,
+    /// Each bounded object's line, centre and reach along each axis.
+    placed: heapless::Vec<(u32, [f64; 3], [f64; 3]), MAX_OBJECTS>,
+    /// Each light's line and position.
+    light_at: heapless::Vec<(u32, [f64; 3]), MAX_LIGHTS>,
 }
 
 fn positive(x: f64) -> bool {
@@ -530,7 +553,10 @@ impl<S: Scalar> Parser<S> {
                 cam.image_distance = st.one_real(positive, GT0)?;
                 self.lines.image_distance = st.line;
             }
-            "lens_position" => cam.lens_position = st.three(any, "")?,
+            "lens_position" => {
+                cam.lens_position = st.three(any, "")?;
+                self.lines.lens_position = st.line;
+            }
             "focal_length" => {
                 cam.focal_length = st.one_real(positive, GT0)?;
                 self.lines.focal_length = st.line;
@@ -561,7 +587,10 @@ impl<S: Scalar> Parser<S> {
                 };
             }
             "light_position" => {
-                let position = Vec3::from_f64(st.three(any, "")?);
+                let at = st.three(any, "")?;
+                // Same capacity as the lights: a push that fails here fails below too.
+                let _ = self.light_at.push((st.line, at));
+                let position = Vec3::from_f64(at);
                 let light = Light {
                     position,
                     intensity: Vec3::from_f64([1.0; 3]),
@@ -704,6 +733,14 @@ impl<S: Scalar> Parser<S> {
         }
         let object = Object::new(&obj.desc).ok_or(out_of_range.clone())?;
         self.scene.objects.push(object).map_err(|_| out_of_range)?;
+        if obj.desc.shape.bound_radius().is_some() {
+            let m = &obj.desc.to_world.0;
+            let _ = self.placed.push((
+                obj.line,
+                [m[0][3], m[1][3], m[2][3]],
+                [0, 1, 2].map(|i| reach(obj.desc.shape, &m[i])),
+            ));
+        }
         Ok(())
     }
 
@@ -723,6 +760,19 @@ impl<S: Scalar> Parser<S> {
                 line: self.lines.look.max(self.lines.up),
                 kind: ErrorKind::UpParallelToLook,
             });
+        }
+        // Rays and light vectors are differences of coordinates: each must fit.
+        let points = core::iter::once(("the lens", self.lines.lens_position, cam.lens_position))
+            .chain(self.light_at.iter().map(|&(line, at)| ("the light", line, at)));
+        for (from, line, at) in points {
+            for &(obj_line, centre, reach) in &self.placed {
+                if (0..3).any(|i| libm::fabs(at[i] - centre[i]) + reach[i] >= REAL_LIMIT) {
+                    return Err(ParseError {
+                        line: obj_line,
+                        kind: ErrorKind::TooFar { from, line },
+                    });
+                }
+            }
         }
         Ok(())
     }

@@ -133,6 +133,22 @@ fn the_parser_refuses_what_q16_16_cannot_hold_and_names_the_line() {
     );
     // Squeezed so thin that the inverse needs entries beyond the range.
     assert_eq!(refusal("width 10\nobject cylinder\nscale 1 0.00001 1\n"), beyond);
+    // Both ends of the range, each in it, but 40000 apart: a ray or light
+    // vector between them cannot be held.
+    let far = "lens_position -20000 0 0\nobject sphere\ntranslate 20000 0 0\n";
+    assert_eq!(
+        refusal(far),
+        "line 2: object: part of it lies 32768 or more from the lens of line 1 along an axis, beyond the range of Q16.16"
+    );
+    let lit = "object cube\nscale 10 10 10\ntranslate 0 0 -30000\nlight_position 0 0 2760\n";
+    assert_eq!(
+        refusal(lit),
+        "line 1: object: part of it lies 32768 or more from the light of line 4 along an axis, beyond the range of Q16.16"
+    );
+    assert!(refusal("object sphere\ntranslate 0 32000 0\nlens_position 0 -800 0\n").contains("from the lens of line 3"));
+    assert!(
+        Scene::<I16F16>::parse("object cube\nscale 10 10 10\ntranslate 0 0 -30000\nlight_position 0 0 2750\n").is_ok()
+    );
     // The largest objects the range tests above use are accepted, and so is a
     // plane far out (it has no surface bound).
     let ok = format!(
