@@ -70,4 +70,6 @@ pub use shape::Shape;
 pub use vec3::Vec3;
 
 #[cfg(test)]
+mod range_tests;
+#[cfg(test)]
 mod tests;

@@ -158,6 +158,14 @@ pub enum ErrorKind {
         /// The focus point's depth along the viewing direction.
         depth: f64,
     },
+    /// Part of an object lies 32768 or more from the lens or a light along an
+    /// axis: Q16.16 cannot hold the difference of their coordinates.
+    TooFar {
+        /// "the lens" or "the light".
+        from: &'static str,
+        /// The line of that lens or light (0: the default lens at the origin).
+        line: u32,
+    },
 }
 
 /// A scene that breaks the format: the 1-based line and what is wrong.
@@ -241,6 +249,14 @@ impl fmt::Display for ErrorKind {
                     "focus_on {index}: the object is not in front of the camera (its focus point lies at depth {d})"
                 )
             }
+            TooFar { from, line: 0 } => write!(
+                f,
+                "object: part of it lies 32768 or more from {from} at the origin along an axis, beyond the range of Q16.16"
+            ),
+            TooFar { from, line } => write!(
+                f,
+                "object: part of it lies 32768 or more from {from} of line {line} along an axis, beyond the range of Q16.16"
+            ),
         }
     }
 }
@@ -488,6 +504,8 @@ impl<S: Scalar> Scene<S> {
             stop: Stop::Radius,
             focus_target: last_focus_on(bytes),
             focus_desc: None,
+            placed: heapless::Vec::new(),
+            light_at: heapless::Vec::new(),
         };
         for (i, raw) in bytes.split(|&b| b == b'\n').enumerate() {
             let line = u32::try_from(i + 1).unwrap_or(u32::MAX);
@@ -521,6 +539,7 @@ impl<S: Scalar> Scene<S> {
 /// Lines of the camera statements the final checks refer to.
 #[derive(Default)]
 struct CameraLines {
+    lens_position: u32,
     focal_length: u32,
     image_distance: u32,
     look: u32,
@@ -557,6 +576,10 @@ struct Parser<S: Scalar> {
     /// object whose exact description is kept (no list of them all).
     focus_target: Option<u32>,
     focus_desc: Option<ObjectDesc>,
+    /// Each bounded object's line, centre and reach along each axis.
+    placed: heapless::Vec<(u32, [f64; 3], [f64; 3]), MAX_OBJECTS>,
+    /// Each light's line and position.
+    light_at: heapless::Vec<(u32, [f64; 3]), MAX_LIGHTS>,
 }
 
 /// The value of the last `focus_on` line with a whole number, if any: a quick
@@ -624,7 +647,10 @@ impl<S: Scalar> Parser<S> {
                 cam.image_distance = st.one_real(positive, GT0)?;
                 self.lines.image_distance = st.line;
             }
-            "lens_position" => cam.lens_position = st.three(any, "")?,
+            "lens_position" => {
+                cam.lens_position = st.three(any, "")?;
+                self.lines.lens_position = st.line;
+            }
             "focal_length" => {
                 cam.focal_length = st.one_real(positive, GT0)?;
                 self.lines.focal_length = st.line;
@@ -682,7 +708,10 @@ impl<S: Scalar> Parser<S> {
                 };
             }
             "light_position" => {
-                let position = Vec3::from_f64(st.three(any, "")?);
+                let at = st.three(any, "")?;
+                // Same capacity as the lights: a push that fails here fails below too.
+                let _ = self.light_at.push((st.line, at));
+                let position = Vec3::from_f64(at);
                 let light = Light {
                     position,
                     intensity: Vec3::from_f64([1.0; 3]),
@@ -828,6 +857,14 @@ impl<S: Scalar> Parser<S> {
             self.focus_desc = Some(obj.desc);
         }
         self.scene.objects.push(object).map_err(|_| out_of_range)?;
+        if obj.desc.shape.bound_radius().is_some() {
+            let m = &obj.desc.to_world.0;
+            let _ = self.placed.push((
+                obj.line,
+                [m[0][3], m[1][3], m[2][3]],
+                [0, 1, 2].map(|i| reach(obj.desc.shape, &m[i])),
+            ));
+        }
         Ok(())
     }
 
@@ -884,19 +921,49 @@ impl<S: Scalar> Parser<S> {
                 });
             }
         }
+        // Rays and light vectors are differences of coordinates: each must fit.
+        let points = core::iter::once(("the lens", self.lines.lens_position, cam.lens_position))
+            .chain(self.light_at.iter().map(|&(line, at)| ("the light", line, at)));
+        for (from, line, at) in points {
+            for &(obj_line, centre, reach) in &self.placed {
+                if (0..3).any(|i| libm::fabs(at[i] - centre[i]) + reach[i] >= REAL_LIMIT) {
+                    return Err(ParseError {
+                        line: obj_line,
+                        kind: ErrorKind::TooFar { from, line },
+                    });
+                }
+            }
+        }
         Ok(())
     }
 }
 
-/// Whether an object's matrices fit Q16.16: its centre, its size, and the
-/// inverse's entries (a shape squeezed to 1/32768 would need larger ones).
+/// How far a bounded shape reaches from its centre along the world axis whose
+/// matrix row is `row` (the plane: 0, it is not bounded).
+fn reach(shape: Shape, row: &[f64; 4]) -> f64 {
+    let [a, b, c, _] = *row;
+    match shape {
+        Shape::Plane => 0.0,
+        Shape::Sphere => libm::sqrt(a * a + b * b + c * c),
+        Shape::Cube => libm::fabs(a) + libm::fabs(b) + libm::fabs(c),
+        // A unit disc in x, z swept along y from -1 to 1 (the cone within it).
+        Shape::Cylinder | Shape::Cone => libm::sqrt(a * a + c * c) + libm::fabs(b),
+    }
+}
+
+/// Whether an object fits Q16.16: its matrices' entries, the inverse's
+/// (a shape squeezed to 1/32768 would need larger ones), and every point of
+/// a bounded shape.
 fn in_fixed_range(desc: &ObjectDesc) -> bool {
     let m = &desc.to_world.0;
     let fits = |x: f64| x.abs() < REAL_LIMIT;
     let Some(inv) = desc.to_world.inverse() else {
         return false;
     };
-    m.iter().all(|row| row.iter().all(|&x| fits(x))) && inv.0.iter().all(|row| row[..3].iter().all(|&x| fits(x)))
+    let inside = m.iter().all(|row| fits(libm::fabs(row[3]) + reach(desc.shape, row)));
+    inside
+        && m.iter().all(|row| row.iter().all(|&x| fits(x)))
+        && inv.0.iter().all(|row| row[..3].iter().all(|&x| fits(x)))
 }
 
 #[cfg(test)]

@@ -118,18 +118,17 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// The mean colour of pixel (`col`, `row`), unclamped, and the rays it cast.
     ///
     /// With adaptive sampling a pixel takes [`ADAPTIVE_BATCH`] lens samples,
-    /// then checks after every further batch whether the mean of its samples,
-    /// as 8-bit levels, is known to within a quarter of a level (its standard
-    /// error); it stops there. Samples that agree (an in-focus pixel, or one
-    /// whose rays all miss every object) stop after the first batch; samples
-    /// that differ (a blurred edge) go on up to the full count. The samples
-    /// taken are the first ones of the full render, so the mean is the same
-    /// kind of estimate, over fewer rays.
+    /// then checks after every further batch whether the mean of its samples
+    /// (in 8-bit levels) is within a level of the mean of all the samples
+    /// (estimated from their spread); it stops there. Samples that agree (an
+    /// in-focus pixel, or one whose rays all miss every object) stop after the
+    /// first batch; samples that differ (a blurred edge) go on up to the full
+    /// count. The samples taken are the first ones of the full render.
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
-        let p_film = self.camera.p_film(col, row);
+        let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
-            let ray = self.camera.chief_ray(p_film);
-            return (self.scene.trace(ray.origin, ray.dir), 1);
+            let ray = self.camera.chief_ray_from(&film);
+            return (self.scene.trace_dir(ray.origin, ray.dir, ray.precise), 1);
         }
         // The pixel's own register: samples independent of row order and threads.
         let mut lfsr = Lfsr::for_pixel(col, row, 0);
@@ -137,8 +136,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut stats = LevelStats::default();
         let mut n = 0;
         while n < self.samples {
-            let ray = self.camera.lens_ray(p_film, self.camera.lens_sample(&mut lfsr));
-            let c = self.scene.trace(ray.origin, ray.dir);
+            let ray = self.camera.lens_ray_from(&film, self.camera.lens_sample(&mut lfsr));
+            let c = self.scene.trace_dir(ray.origin, ray.dir, ray.precise);
             acc = [
                 S::acc_add(acc[0], c.x),
                 S::acc_add(acc[1], c.y),

@@ -6,7 +6,7 @@
 //! [`crate::camera::Camera::new`]).
 
 use crate::scalar::Scalar;
-use crate::shape::Shape;
+use crate::shape::{LocalHit, Shape};
 use crate::transform::{Affine, Mat34};
 use crate::vec3::Vec3;
 
@@ -283,13 +283,38 @@ impl<S: Scalar> Object<S> {
     /// The nearest hit of the world ray `o + t d` (unit `d`) with
     /// `t_min < t < t_max`.
     pub fn intersect(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<Hit<S>> {
+        self.intersect_dir(o, d, S::dir_from(d.to_array()), t_min, t_max)
+    }
+
+    /// As [`Object::intersect`], with `precise` the ray's direction held more
+    /// precisely (any length; see [`Scalar::Dir`]), which the plane uses.
+    pub fn intersect_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, t_min: S, t_max: S) -> Option<Hit<S>> {
         let Some((center, radius)) = self.bound else {
-            // Unbounded plane: t is shared by both spaces (the map is linear in t).
+            // Unbounded plane: from the ray's own origin, with the precise
+            // direction (a grazing hit 100 away moves by 100² times its error).
             let lo = self.to_object.point(o);
-            let ld = self.to_object.vector(d);
-            let h = self.shape.intersect(lo, ld, t_min, t_max)?;
-            return Some(Hit { t: h.t, local: h });
+            let (t, x, y) = S::plane_cross(lo.to_array(), self.to_object.dir(precise), precise)?;
+            if t <= t_min || t >= t_max {
+                return None;
+            }
+            let local = LocalHit {
+                t,
+                p: Vec3::new(x, y, S::ZERO),
+                n: Vec3::new(S::ZERO, S::ZERO, S::ONE),
+            };
+            return Some(Hit { t, local });
         };
+        // The object-space direction as a unit vector, with the factor between
+        // world and object distances: kept as |A d| where that is 1 or more and
+        // as 1 / |A d| where it is below (a large object's 1/2000 would keep only
+        // five bits in Q16.16, its reciprocal all of them).
+        let (ld, len, inv_len) = self.to_object.vector_unit(d);
+        if len == S::ZERO && inv_len == S::ZERO {
+            return None;
+        }
+        let by_len = len >= S::ONE;
+        let to_local = |t: S| if by_len { t.mul(len) } else { t.div(inv_len) };
+        let to_world = |t: S| if by_len { t.div(len) } else { t.mul(inv_len) };
         // Cheap reject against the world bounding sphere.
         let oc = center - o;
         let tc = oc.dot(d);
@@ -302,14 +327,10 @@ impl<S: Scalar> Object<S> {
         // Re-origin the ray at the sphere's edge so object-space numbers stay small.
         let t_off = tc.sub(radius).max(S::ZERO);
         let lo = self.to_object.point(o + d * t_off);
-        let (ld, len) = self.to_object.vector(d).normalize_len();
-        if len == S::ZERO {
-            return None;
-        }
-        let lt_min = t_min.sub(t_off).mul(len);
-        let lt_max = t_max.sub(t_off).mul(len);
+        let lt_min = to_local(t_min.sub(t_off));
+        let lt_max = to_local(t_max.sub(t_off));
         let h = self.shape.intersect(lo, ld, lt_min, lt_max)?;
-        let t = t_off.add(h.t.div(len));
+        let t = t_off.add(to_world(h.t));
         if t <= t_min || t >= t_max {
             return None;
         }
@@ -318,7 +339,9 @@ impl<S: Scalar> Object<S> {
 
     /// The world-space unit normal at a hit, turned to face against `d`.
     pub fn normal(&self, hit: &Hit<S>, d: Vec3<S>) -> Vec3<S> {
-        let n = self.normal_to_world.vector(hit.local.n).normalize();
+        // From the exact product: a large object's inverse transpose has entries of
+        // 1/500, which rounded first would leave the normal a few bits.
+        let n = self.normal_to_world.vector_unit(hit.local.n).0;
         if n.dot(d) > S::ZERO {
             -n
         } else {
@@ -418,10 +441,15 @@ impl<S: Scalar> Default for Scene<S> {
 impl<S: Scalar> Scene<S> {
     /// The nearest object hit by the ray `o + t d` (unit `d`) with `t_min < t`.
     pub fn closest_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S) -> Option<(usize, Hit<S>)> {
+        self.closest_hit_dir(o, d, S::dir_from(d.to_array()), t_min)
+    }
+
+    /// As [`Scene::closest_hit`], with the ray's direction also held precisely.
+    pub fn closest_hit_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, t_min: S) -> Option<(usize, Hit<S>)> {
         let mut best: Option<(usize, Hit<S>)> = None;
         for (i, obj) in self.objects.iter().enumerate() {
             let t_max = best.map_or(S::MAX, |(_, h)| h.t);
-            if let Some(h) = obj.intersect(o, d, t_min, t_max) {
+            if let Some(h) = obj.intersect_dir(o, d, precise, t_min, t_max) {
                 best = Some((i, h));
             }
         }
@@ -438,7 +466,13 @@ impl<S: Scalar> Scene<S> {
 
     /// The colour seen along the ray `o + t d` (unit `d`), unclamped.
     pub fn trace(&self, o: Vec3<S>, d: Vec3<S>) -> Vec3<S> {
-        let Some((i, hit)) = self.closest_hit(o, d, S::EPSILON) else {
+        self.trace_dir(o, d, S::dir_from(d.to_array()))
+    }
+
+    /// As [`Scene::trace`], with the ray's direction also held precisely
+    /// (any length): the camera's rays, see [`crate::camera::Ray`].
+    pub fn trace_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir) -> Vec3<S> {
+        let Some((i, hit)) = self.closest_hit_dir(o, d, precise, S::EPSILON) else {
             return self.background;
         };
         let obj = &self.objects[i];
@@ -551,10 +585,11 @@ mod tests {
         let normal = Mat34::rotate(0, -80.0).apply([0.0, 0.0, 1.0], false);
         assert!(normal[1] > 0.98 && close(n, normal), "{n:?} vs {normal:?}");
         assert!((t - 3.0).abs() < 2e-3, "{t}");
-        // A ray along the floor's own slope, just above it, never meets it.
-        let along = Mat34::rotate(0, -80.0).apply([0.0, 1.0, 0.0], false);
-        let start = [0.0, -3.0 + 0.01 * normal[1], 0.01 * normal[2]];
-        assert!(both(Shape::Plane, m, start, along).is_none());
+        // A ray parallel to a level floor, just above it, never meets it (exact
+        // values: a rounded direction may cross a tilted floor far away).
+        let level = Mat34::translate([0.0, -3.0, 0.0]).after(&Mat34::rotate(0, -90.0));
+        assert!(both(Shape::Plane, level, [0.0, -2.99, 0.0], [1.0, 0.0, -1.0]).is_none());
+        assert!(both(Shape::Plane, level, [0.0, -2.99, 0.0], [1.0, -0.01, -1.0]).is_some());
     }
 
     #[test]

@@ -103,23 +103,23 @@ pub fn run<S: Scalar>(
             for col in 0..cols {
                 let (_, t) = time(counter, ov, || renderer.pixel(col, row));
                 st.pixel.add(t);
-                let p_film = cam.p_film(col, row);
+                let film = cam.film_point(col, row);
                 let mut lfsr = Lfsr::for_pixel(col, row, 0);
                 for _ in 0..rays {
                     let (ray, t) = if cam.is_pinhole() {
-                        time(counter, ov, || cam.chief_ray(p_film))
+                        time(counter, ov, || cam.chief_ray_from(&film))
                     } else {
                         let (lens, ts) = time(counter, ov, || cam.lens_sample(&mut lfsr));
                         st.sample.add(ts);
-                        time(counter, ov, || cam.lens_ray(p_film, lens))
+                        time(counter, ov, || cam.lens_ray_from(&film, lens))
                     };
                     st.ray.add(t);
-                    let (o, d) = (ray.origin, ray.dir);
+                    let (o, d, precise) = (ray.origin, ray.dir, ray.precise);
                     // Each object as closest_hit meets it: limited by the nearest hit so far.
                     let mut best: Option<(usize, lensray::scene::Hit<S>)> = None;
                     for (i, obj) in scene.objects.iter().enumerate() {
                         let t_max = best.map_or(S::MAX, |(_, h)| h.t);
-                        let (h, t) = time(counter, ov, || obj.intersect(o, d, S::EPSILON, t_max));
+                        let (h, t) = time(counter, ov, || obj.intersect_dir(o, d, precise, S::EPSILON, t_max));
                         let k = shape_index(obj.shape);
                         match h {
                             Some(h) => {
@@ -133,9 +133,9 @@ pub fn run<S: Scalar>(
                         let (_, t) = time(counter, ov, || scene.objects[i].normal(&h, d));
                         st.normal.add(t);
                     }
-                    let (_, t) = time(counter, ov, || scene.closest_hit(o, d, S::EPSILON));
+                    let (_, t) = time(counter, ov, || scene.closest_hit_dir(o, d, precise, S::EPSILON));
                     st.closest.add(t);
-                    let (_, t) = time(counter, ov, || scene.trace(o, d));
+                    let (_, t) = time(counter, ov, || scene.trace_dir(o, d, precise));
                     st.trace.add(t);
                     if best.is_some() {
                         st.trace_hit.add(t);
@@ -158,15 +158,15 @@ pub fn run<S: Scalar>(
         let mut sum = 0;
         for row in 0..rows {
             for col in 0..cols {
-                let p_film = cam.p_film(col, row);
+                let film = cam.film_point(col, row);
                 let mut lfsr = Lfsr::for_pixel(col, row, 0);
                 for _ in 0..renderer.rays_per_pixel() {
                     let ray = if cam.is_pinhole() {
-                        cam.chief_ray(p_film)
+                        cam.chief_ray_from(&film)
                     } else {
-                        cam.lens_ray(p_film, cam.lens_sample(&mut lfsr))
+                        cam.lens_ray_from(&film, cam.lens_sample(&mut lfsr))
                     };
-                    let (_, t) = time(counter, ov, || scene.trace(ray.origin, ray.dir));
+                    let (_, t) = time(counter, ov, || scene.trace_dir(ray.origin, ray.dir, ray.precise));
                     sum += t;
                 }
             }

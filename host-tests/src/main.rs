@@ -5,6 +5,8 @@
 //!                      [--passes DIR [--first-step S] [--preview-samples P]]
 //! lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT] [render options]
 //! lensray emulate SCENE --board microbit|mps2-an386 [-o OUT] [--width W] [--height H] [--samples N] [--float]
+//! lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
+//! lensray compare A.bmp B.bmp [--diff OUT]
 //! ```
 //!
 //! Exit status: 0 on success, 2 on any error (bad scene, bad arguments,
@@ -13,6 +15,7 @@
 
 use std::process::ExitCode;
 
+mod cmd_compare;
 mod cmd_emulate;
 mod cmd_render;
 mod cmd_sheet;
@@ -26,6 +29,8 @@ pub(crate) const USAGE: &str = "usage:
                        [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
   lensray emulate SCENE --board microbit|mps2-an386 [-o OUT] [--width W] [--height H]
                   [--samples N] [--float] [--soft-sqrt] [--timeout SECONDS]
+  lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
+  lensray compare A B [--diff OUT]
 
   render   renders a scene file to OUT (.bmp or .png; default: the scene's
            name with .bmp, in the current directory). --width defaults to 640,
@@ -46,7 +51,13 @@ pub(crate) const USAGE: &str = "usage:
            writes the image the board rendered to OUT (default: the scene's
            name, -BOARD.bmp) and prints its instructions per pixel and memory
            use. --width defaults to 160; --soft-sqrt takes f32 square roots in
-           software even on the FPU board; --timeout (3600 s) bounds the run.";
+           software even on the FPU board; --timeout (3600 s) bounds the run.
+  compare  renders a scene with Q16.16 and with the f32 reference (same size,
+           same samples; sizes as for render), or reads two images (.bmp or
+           .png), and prints PSNR, mean and max error, the share of pixels
+           within 1, 2 and 8 levels, and the worst row and column. --diff
+           writes the error as a heat map (.png or .bmp): black where equal,
+           brighter where worse, white from 8 levels.";
 
 /// A one-line error for the user; exit status 2.
 pub(crate) struct Fail(pub(crate) String);
@@ -73,6 +84,7 @@ fn run(args: &[String]) -> Result<(), Fail> {
         Some("render") => cmd_render::run(&args[1..]),
         Some("sheet") => cmd_sheet::run(&args[1..]),
         Some("emulate") => cmd_emulate::run(&args[1..]),
+        Some("compare") => cmd_compare::run(&args[1..]),
         Some("-h") | Some("--help") | Some("help") => {
             println!("{USAGE}");
             Ok(())
