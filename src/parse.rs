@@ -495,9 +495,28 @@ impl<S: Scalar> Scene<S> {
     ///
     /// Never, whatever the bytes.
     pub fn parse_bytes(bytes: &[u8]) -> Result<Self, ParseError> {
+        let mut scene = Scene::default();
+        scene.parse_into(bytes)?;
+        Ok(scene)
+    }
+
+    /// Parses a scene file's bytes into `self`, which it first resets to the
+    /// empty scene: the way to parse on a small stack (a microcontroller's),
+    /// as the scene is built where it stays instead of being returned by value.
+    /// On an error `self` holds the scene up to the bad line.
+    ///
+    /// # Errors
+    ///
+    /// As [`Scene::parse`].
+    ///
+    /// # Panics
+    ///
+    /// Never, whatever the bytes.
+    pub fn parse_into(&mut self, bytes: &[u8]) -> Result<(), ParseError> {
+        *self = Scene::default();
         let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
         let mut p = Parser::<S> {
-            scene: Scene::default(),
+            scene: self,
             object: None,
             lines: CameraLines::default(),
             focus: Focus::FocalLength,
@@ -531,8 +550,7 @@ impl<S: Scalar> Scene<S> {
             p.statement(&st)?;
         }
         p.finish_object()?;
-        p.finish_camera()?;
-        Ok(p.scene)
+        p.finish_camera()
     }
 }
 
@@ -566,8 +584,8 @@ enum Stop {
     FNumber(f64, u32),
 }
 
-struct Parser<S: Scalar> {
-    scene: Scene<S>,
+struct Parser<'a, S: Scalar> {
+    scene: &'a mut Scene<S>,
     object: Option<Pending>,
     lines: CameraLines,
     focus: Focus,
@@ -625,7 +643,7 @@ fn non_zero(x: f64) -> bool {
 const GT0: &str = "must be greater than 0";
 const GE0: &str = "must not be negative";
 
-impl<S: Scalar> Parser<S> {
+impl<S: Scalar> Parser<'_, S> {
     fn statement(&mut self, st: &Statement<'_>) -> Result<(), ParseError> {
         let is_transform = matches!(st.keyword, "scale" | "rotate" | "translate");
         if let Some(obj) = &self.object {

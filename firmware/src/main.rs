@@ -71,9 +71,10 @@ fn main() -> ! {
 
     #[cfg(feature = "profile")]
     {
-        let Ok(mut scene) = Scene::<Number>::parse_bytes(SCENE) else {
+        let mut scene = Scene::<Number>::default();
+        if scene.parse_into(SCENE).is_err() {
             exit(2)
-        };
+        }
         let _ = writeln!(
             console,
             "profile board={BOARD} number={} scene={SCENE_NAME} width={WIDTH} height={HEIGHT}",
@@ -86,13 +87,12 @@ fn main() -> ! {
     #[allow(unreachable_code)]
     let calibration = counter.calibrate();
     let t0 = counter.ticks();
-    let scene = match Scene::<Number>::parse_bytes(SCENE) {
-        Ok(s) => s,
-        Err(e) => {
-            let _ = writeln!(console, "{SCENE_NAME}:{}: {}", e.line, e.kind);
-            exit(2)
-        }
-    };
+    // Parsed in place: returning a scene by value would need a second copy on the stack.
+    let mut scene = Scene::<Number>::default();
+    if let Err(e) = scene.parse_into(SCENE) {
+        let _ = writeln!(console, "{SCENE_NAME}:{}: {}", e.line, e.kind);
+        exit(2)
+    }
     let mut renderer = Renderer::new(&scene, WIDTH, HEIGHT);
     if let Some(n) = SAMPLES {
         renderer = renderer.with_samples(n);

@@ -481,3 +481,19 @@ fn never_panics_on_odd_bytes() {
         let _ = Scene::<I16F16>::parse_bytes(&buf);
     }
 }
+
+#[test]
+fn parse_into_resets_and_matches_parse() {
+    use crate::Scene;
+    use fixed::types::I16F16;
+    let text = b"point 4\nlight_position 1 2 3\nobject sphere gold\ntranslate 0 0 -5\n";
+    let mut s = Scene::<I16F16>::parse("object cube\nobject cube\nshadows on\n").unwrap();
+    s.parse_into(text).unwrap();
+    let p = Scene::<I16F16>::parse_bytes(text).unwrap();
+    assert_eq!((s.objects.len(), s.lights.len(), s.shadows), (1, 1, false));
+    assert_eq!(s.camera, p.camera);
+    assert_eq!(s.lights, p.lights);
+    assert_eq!(s.objects[0].material, p.objects[0].material);
+    let err = s.parse_into(b"width 10\nwidth -1\n").unwrap_err();
+    assert_eq!(err.line, 2);
+}

@@ -111,9 +111,11 @@ fn main() -> ! {
     };
     let _ = backlight.set_high();
 
-    let Ok(scene) = Scene::<I16F16>::parse_bytes(SCENE) else {
+    // Parsed in place: no second copy of the scene on the stack.
+    let mut scene = Scene::<I16F16>::default();
+    if scene.parse_into(SCENE).is_err() {
         blink(&mut led, &mut timer)
-    };
+    }
     // The panel in landscape: 320×240, the scene's 1.33 aspect ratio.
     let renderer = Renderer::new(&scene, 320, 240).with_samples(SAMPLES);
     let _ = led.set_high();
