@@ -32,6 +32,9 @@ pub struct Camera<S: Scalar> {
     film: Affine<S>,
     /// Camera frame → world: columns u, v, n and translation E.
     to_world: Affine<S>,
+    /// The lens centre E in world space, as `to_world` maps the origin: the
+    /// chief rays' common origin, computed once.
+    eye: Vec3<S>,
     /// Lens radius a.
     lens_radius: S,
     /// a / m: how far a lens sample tilts the direction on the film's scale.
@@ -121,6 +124,7 @@ impl<S: Scalar> Camera<S> {
         Camera {
             film: Affine::from_mat(&film),
             to_world: Affine::from_mat(&to_world),
+            eye: Affine::<S>::from_mat(&to_world).point(Vec3::ZERO),
             lens_radius: S::from_f64(if pinhole { 0.0 } else { params.radius }),
             lens_tilt: S::from_f64(lens_tilt),
             pinhole,
@@ -196,7 +200,7 @@ impl<S: Scalar> Camera<S> {
     #[inline]
     pub fn chief_ray_from(&self, f: &FilmPoint<S>) -> Ray<S> {
         Ray {
-            origin: self.to_world.point(Vec3::ZERO),
+            origin: self.eye,
             dir: self.to_world.vector(f.p).normalize(),
             precise: self.to_world.dir(f.precise),
         }

@@ -60,6 +60,7 @@ pub mod scene;
 pub mod shape;
 pub mod transform;
 pub mod vec3;
+mod wide;
 
 pub use fixed::types::I16F16;
 pub use parse::{ErrorKind, ParseError};

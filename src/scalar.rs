@@ -18,6 +18,7 @@
 //! * Set-up conversions (`from_f64`) round to nearest; they run once per scene.
 //! * The Q16.16 per-ray operations use only integer instructions.
 
+use crate::wide::{isqrt_u64, mul_i32, mul_i64, mul_u32, mul_u64};
 use fixed::types::I16F16;
 
 mod sealed {
@@ -200,7 +201,10 @@ impl FixedDir {
     #[inline]
     fn exact_rows(rows: &[FixedRow; 3], v: [i64; 3], affine: bool, e: i32) -> FixedDir {
         let row = |r: &FixedRow| {
-            r.m[0] as i64 * v[0] + r.m[1] as i64 * v[1] + r.m[2] as i64 * v[2] + if affine { r.t } else { 0 }
+            mul_i64(r.m[0] as i64, v[0])
+                + mul_i64(r.m[1] as i64, v[1])
+                + mul_i64(r.m[2] as i64, v[2])
+                + if affine { r.t } else { 0 }
         };
         let common = rows.iter().map(|r| r.shift).max().unwrap_or(0);
         if rows.iter().all(|r| r.shift == common) {
@@ -212,9 +216,9 @@ impl FixedDir {
 
     /// `|self|` as a mantissa below 2^32 at scale `2^e`.
     fn length(&self) -> u64 {
-        let sq: u64 = self.m.iter().map(|&c| (c * c) as u64).sum();
+        let sq: u64 = self.m.iter().map(|&c| mul_i64(c, c) as u64).sum();
         let l = isqrt_u64(sq);
-        if sq - l * l > l {
+        if sq - mul_u64(l, l) > l {
             l + 1
         } else {
             l
@@ -264,28 +268,6 @@ fn shr_round(x: i64, s: u32) -> i64 {
     (x >> s) + ((x >> (s - 1)) & 1)
 }
 
-/// Integer square root of a u64 (floor).
-#[inline]
-pub(crate) fn isqrt_u64(n: u64) -> u64 {
-    if n == 0 {
-        return 0;
-    }
-    // Classic digit-by-digit method: one result bit per step, no division.
-    let mut rem = n;
-    let mut root = 0u64;
-    let mut bit = 1u64 << ((63 - n.leading_zeros()) & !1);
-    while bit != 0 {
-        if rem >= root + bit {
-            rem -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
-        }
-        bit >>= 2;
-    }
-    root
-}
-
 /// `log2(x)` of a Q16.16 raw value `x > 0`, in Q16.16.
 fn fixed_log2(raw: i32) -> i64 {
     let raw = raw as u32;
@@ -295,7 +277,7 @@ fn fixed_log2(raw: i32) -> i64 {
     let mut frac: i64 = 0;
     for i in (0..16).rev() {
         // Squaring doubles the log; a value >= 2 means the next bit is 1.
-        m = (m * m) >> 31;
+        m = mul_u32(m as u32, m as u32) >> 31;
         if m >= 1 << 32 {
             m >>= 1;
             frac |= 1 << i;
@@ -336,7 +318,7 @@ fn fixed_exp2_neg(y: i64) -> i32 {
     let mut acc: u64 = 1 << 30;
     for (j, &c) in EXP2_NEG.iter().enumerate() {
         if frac & (1 << (15 - j)) != 0 {
-            acc = (acc * c as u64 + (1 << 29)) >> 30;
+            acc = (mul_u32(acc as u32, c) + (1 << 29)) >> 30;
         }
     }
     // Q2.30 -> Q16.16 with the integer part as a further shift, rounded.
@@ -391,7 +373,7 @@ impl Scalar for I16F16 {
     }
     #[inline]
     fn mul(self, o: Self) -> Self {
-        let p = self.to_bits() as i64 * o.to_bits() as i64;
+        let p = mul_i32(self.to_bits(), o.to_bits());
         I16F16::from_bits(sat32(shr_round(p, 16)))
     }
     #[inline]
@@ -427,7 +409,7 @@ impl Scalar for I16F16 {
         // sqrt(b / 2^16) * 2^16 = sqrt(b * 2^16), rounded to nearest.
         let n = (b as u64) << 16;
         let r = isqrt_u64(n);
-        let r = if n - r * r > r { r + 1 } else { r };
+        let r = if n - mul_u64(r, r) > r { r + 1 } else { r };
         I16F16::from_bits(r as i32)
     }
     fn powf(self, e: Self) -> Self {
@@ -443,7 +425,7 @@ impl Scalar for I16F16 {
         }
         // x^e = 2^(e·log2 x); log2 x < 0 here.
         let l = -fixed_log2(b);
-        let y = (l * e.to_bits() as i64) >> 16;
+        let y = mul_i64(l, e.to_bits() as i64) >> 16;
         I16F16::from_bits(fixed_exp2_neg(y))
     }
     #[inline]
@@ -454,13 +436,13 @@ impl Scalar for I16F16 {
         let s: u64 = v
             .iter()
             .map(|x| {
-                let b = x.to_bits() as i64;
-                (b * b) as u64
+                let b = x.to_bits();
+                mul_i32(b, b) as u64
             })
             .sum();
         // sqrt of a Q32.32 sum is the Q16.16 length; rounded.
         let r = isqrt_u64(s);
-        let r = if s - r * r > r { r + 1 } else { r };
+        let r = if s - mul_u64(r, r) > r { r + 1 } else { r };
         I16F16::from_bits(sat32(r as i64))
     }
     fn normalize3(v: [Self; 3]) -> ([Self; 3], Self) {
@@ -472,7 +454,7 @@ impl Scalar for I16F16 {
         // One division for a Q2.46-ish reciprocal, then three exact-enough multiplies.
         let recip = (1i64 << 46) / l;
         let unit = v.map(|x| {
-            let p = x.to_bits() as i64 * recip;
+            let p = mul_i64(x.to_bits() as i64, recip);
             I16F16::from_bits(sat32(shr_round(p, 30)))
         });
         (unit, len)
@@ -481,12 +463,12 @@ impl Scalar for I16F16 {
         let s: u64 = v
             .iter()
             .map(|x| {
-                let b = x.to_bits() as i64;
-                (b * b) as u64
+                let b = x.to_bits();
+                mul_i32(b, b) as u64
             })
             .sum();
-        let rb = r.to_bits().max(0) as i64;
-        s <= (rb * rb) as u64
+        let rb = r.to_bits().max(0);
+        s <= mul_i32(rb, rb) as u64
     }
     fn row_from_f64(r: [f64; 4]) -> FixedRow {
         let mut big = 0.0f64;
@@ -535,9 +517,8 @@ impl Scalar for I16F16 {
     #[inline]
     fn row_apply(row: &FixedRow, v: [Self; 3], affine: bool) -> Self {
         // Each product <= 2^61 and t <= 2^60: the sum stays below 2^63: no overflow.
-        let mut s = row.m[0] as i64 * v[0].to_bits() as i64
-            + row.m[1] as i64 * v[1].to_bits() as i64
-            + row.m[2] as i64 * v[2].to_bits() as i64;
+        let mut s =
+            mul_i32(row.m[0], v[0].to_bits()) + mul_i32(row.m[1], v[1].to_bits()) + mul_i32(row.m[2], v[2].to_bits());
         if affine {
             s += row.t;
         }
@@ -562,7 +543,7 @@ impl Scalar for I16F16 {
         // reciprocal 2^62 / l; |x| <= l keeps x · recip below 2^62.
         let recip = (1u64 << 62) / l;
         let unit = d.m.map(|c| {
-            let q = ((c.unsigned_abs() * recip + (1 << 45)) >> 46) as i64;
+            let q = ((mul_u64(c.unsigned_abs(), recip) + (1 << 45)) >> 46) as i64;
             I16F16::from_bits(sat32(if c < 0 { -q } else { q }))
         });
         // The product's value is x · 2^(e - 16): |M v| is l · 2^e in Q16.16 bits.
@@ -639,7 +620,7 @@ impl Scalar for I16F16 {
             world.m = world.m.map(|x| ((x >> (cut - 1)) + 1) >> 1);
             world.e += cut as i32;
         }
-        let num = -oz * world.length() as i64;
+        let num = mul_i64(-oz, world.length() as i64);
         let shift = world.e - ld.e;
         let t = if (0..=62).contains(&shift) && num.unsigned_abs() >> (62 - shift) == 0 {
             div_round_i64(num << shift, dz)
@@ -660,8 +641,8 @@ impl Scalar for I16F16 {
         }
         // x = ox - ld.x · oz / ld.z: the mantissas' ratio needs no exponent;
         // each product is below 2^62.
-        let x = lo[0].to_bits() as i64 - div_round_i64(ld.m[0] * oz, dz);
-        let y = lo[1].to_bits() as i64 - div_round_i64(ld.m[1] * oz, dz);
+        let x = lo[0].to_bits() as i64 - div_round_i64(mul_i64(ld.m[0], oz), dz);
+        let y = lo[1].to_bits() as i64 - div_round_i64(mul_i64(ld.m[1], oz), dz);
         Some((
             I16F16::from_bits(sat32(t)),
             I16F16::from_bits(sat32(x)),

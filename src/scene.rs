@@ -222,6 +222,9 @@ pub struct Object<S: Scalar> {
     normal_to_world: Affine<S>,
     /// World-space bounding sphere (centre, radius); the plane has none.
     bound: Option<(Vec3<S>, S)>,
+    /// The plane's world unit normal, the same for every hit: computed once,
+    /// exactly as [`Object::normal`] would compute it per hit.
+    plane_normal: Vec3<S>,
 }
 
 /// What the exact set-up of an object is built from (the parser's output).
@@ -255,6 +258,7 @@ impl<S: Scalar> Object<S> {
                 S::from_f64(r * max_stretch(&desc.to_world) * (1.0 + 1e-6) + 1e-4),
             )
         });
+        let normal_to_world = Affine::from_mat(&inv.linear_transpose());
         Some(Object {
             shape: desc.shape,
             material: Material {
@@ -270,8 +274,9 @@ impl<S: Scalar> Object<S> {
                 S::ZERO
             },
             to_object: Affine::from_mat(&inv),
-            normal_to_world: Affine::from_mat(&inv.linear_transpose()),
+            normal_to_world,
             bound,
+            plane_normal: normal_to_world.vector_unit(Vec3::new(S::ZERO, S::ZERO, S::ONE)).0,
         })
     }
 
@@ -304,17 +309,6 @@ impl<S: Scalar> Object<S> {
             };
             return Some(Hit { t, local });
         };
-        // The object-space direction as a unit vector, with the factor between
-        // world and object distances: kept as |A d| where that is 1 or more and
-        // as 1 / |A d| where it is below (a large object's 1/2000 would keep only
-        // five bits in Q16.16, its reciprocal all of them).
-        let (ld, len, inv_len) = self.to_object.vector_unit(d);
-        if len == S::ZERO && inv_len == S::ZERO {
-            return None;
-        }
-        let by_len = len >= S::ONE;
-        let to_local = |t: S| if by_len { t.mul(len) } else { t.div(inv_len) };
-        let to_world = |t: S| if by_len { t.div(len) } else { t.mul(inv_len) };
         // Cheap reject against the world bounding sphere.
         let oc = center - o;
         let tc = oc.dot(d);
@@ -324,6 +318,18 @@ impl<S: Scalar> Object<S> {
         if !S::within((oc - d * tc).to_array(), radius) {
             return None;
         }
+        // Past the reject only, as most rays miss most objects: the object-space
+        // direction as a unit vector, with the factor between world and object
+        // distances: kept as |A d| where that is 1 or more and as 1 / |A d| where
+        // it is below (a large object's 1/2000 would keep only five bits in
+        // Q16.16, its reciprocal all of them).
+        let (ld, len, inv_len) = self.to_object.vector_unit(d);
+        if len == S::ZERO && inv_len == S::ZERO {
+            return None;
+        }
+        let by_len = len >= S::ONE;
+        let to_local = |t: S| if by_len { t.mul(len) } else { t.div(inv_len) };
+        let to_world = |t: S| if by_len { t.div(len) } else { t.mul(inv_len) };
         // Re-origin the ray at the sphere's edge so object-space numbers stay small.
         let t_off = tc.sub(radius).max(S::ZERO);
         let lo = self.to_object.point(o + d * t_off);
@@ -341,7 +347,11 @@ impl<S: Scalar> Object<S> {
     pub fn normal(&self, hit: &Hit<S>, d: Vec3<S>) -> Vec3<S> {
         // From the exact product: a large object's inverse transpose has entries of
         // 1/500, which rounded first would leave the normal a few bits.
-        let n = self.normal_to_world.vector_unit(hit.local.n).0;
+        let n = if self.shape == Shape::Plane {
+            self.plane_normal
+        } else {
+            self.normal_to_world.vector_unit(hit.local.n).0
+        };
         if n.dot(d) > S::ZERO {
             -n
         } else {
