@@ -34,6 +34,21 @@ step "host: building lensray"
 cargo build --release -q
 lensray="$root/target/release/lensray"
 
+# The host first: criterion wants the cores quiet, and the firmware builds are long.
+step "host: criterion (host-tests/benches/render.rs)"
+load_before=$(uptime | sed 's/.*load average: //')
+cargo bench -p lensray-host --bench render 2>&1 | tee "$work/criterion.log" >&2
+load_after=$(uptime | sed 's/.*load average: //')
+# name -> rays per second (the middle of criterion's throughput estimate).
+awk '
+  /^program1-160x120\// { name = $1 }
+  /thrpt:/ && name != "" {
+    gsub(/[\[\]]/, ""); v = $4; u = $5
+    m = (u ~ /^K/) ? 1e3 : (u ~ /^M/) ? 1e6 : (u ~ /^G/) ? 1e9 : 1
+    printf "%s %.0f\n", name, v * m; name = ""
+  }' "$work/criterion.log" >"$work/rays.txt"
+rate() { awk -v n="$1" '$1 == n { print $2 }' "$work/rays.txt"; }
+
 # key=value of the firmware's report line.
 field() { sed -n 's/^report //p' "$1" | tr ' ' '\n' | sed -n "s/^$2=//p"; }
 
@@ -87,20 +102,6 @@ profile_table() {
       }
     }' "$1"
 }
-
-step "host: criterion (host-tests/benches/render.rs)"
-load_before=$(uptime | sed 's/.*load average: //')
-cargo bench -p lensray-host --bench render 2>&1 | tee "$work/criterion.log" >&2
-load_after=$(uptime | sed 's/.*load average: //')
-# name -> rays per second (the middle of criterion's throughput estimate).
-awk '
-  /^program1-160x120\// { name = $1 }
-  /thrpt:/ && name != "" {
-    gsub(/[\[\]]/, ""); v = $4; u = $5
-    m = (u ~ /^K/) ? 1e3 : (u ~ /^M/) ? 1e6 : (u ~ /^G/) ? 1e9 : 1
-    printf "%s %.0f\n", name, v * m; name = ""
-  }' "$work/criterion.log" >"$work/rays.txt"
-rate() { awk -v n="$1" '$1 == n { print $2 }' "$work/rays.txt"; }
 
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", a / b }'; }
 m0_fixed=${per_pixel[microbit-pinhole-q16]}
