@@ -588,6 +588,20 @@ impl Scalar for I16F16 {
         // The lens term is exact at 2^-31 (Q1.15 times Q16.16); p at 2^e.
         let common = p.e.min(-31);
         let (sp, sl) = ((p.e - common).min(90) as u32, (-31 - common) as u32);
+        // In i64 where every shifted term stays below 2^62 (the usual case:
+        // i128 arithmetic is slow on a microcontroller); the same values either way.
+        let lens_terms = [mul_i32(lens.0, k.to_bits()), mul_i32(lens.1, k.to_bits())];
+        let below = |x: i64, s: u32| s <= 62 && x.unsigned_abs() >> (62 - s) == 0;
+        if p.m.iter().all(|&x| below(x, sp)) && lens_terms.iter().all(|&x| below(x, sl)) {
+            return FixedDir::from_i64(
+                [
+                    (p.m[0] << sp) - (lens_terms[0] << sl),
+                    (p.m[1] << sp) - (lens_terms[1] << sl),
+                    p.m[2] << sp,
+                ],
+                common,
+            );
+        }
         let kb = k.to_bits() as i128;
         let w = [
             ((p.m[0] as i128) << sp) - ((lens.0 as i128 * kb) << sl),
@@ -867,5 +881,49 @@ impl Scalar for f32 {
             0.0
         };
         (v * 255.0 + 0.5) as u8
+    }
+}
+
+#[cfg(test)]
+mod dir_tests {
+    use super::*;
+
+    /// The all-i128 form of `dir_minus_lens`, which the i64 short cut must equal.
+    fn dir_minus_lens_wide(p: FixedDir, lens: (i32, i32), k: I16F16) -> FixedDir {
+        let common = p.e.min(-31);
+        let (sp, sl) = ((p.e - common).min(90) as u32, (-31 - common) as u32);
+        let kb = k.to_bits() as i128;
+        let w = [
+            ((p.m[0] as i128) << sp) - ((lens.0 as i128 * kb) << sl),
+            ((p.m[1] as i128) << sp) - ((lens.1 as i128 * kb) << sl),
+            (p.m[2] as i128) << sp,
+        ];
+        FixedDir::from_wide(w, common)
+    }
+
+    #[test]
+    fn lens_direction_in_i64_equals_i128() {
+        let mut s = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        for _ in 0..100_000 {
+            let bits = (next() % 32) as u32;
+            let m = [0, 1, 2].map(|_| (next() as i64) >> (63 - bits));
+            let p = FixedDir {
+                m,
+                e: -60 + (next() % 60) as i32,
+            };
+            let lens = ((next() as i32) >> 16, (next() as i32) >> 16);
+            let k = I16F16::from_bits((next() as i32) >> (next() % 31));
+            assert_eq!(
+                <I16F16 as Scalar>::dir_minus_lens(p, lens, k),
+                dir_minus_lens_wide(p, lens, k),
+                "{p:?} {lens:?} {k:?}"
+            );
+        }
     }
 }
