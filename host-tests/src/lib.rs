@@ -10,6 +10,8 @@ use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
 use lensray::{Renderer, Scalar, Scene};
 use rayon::prelude::*;
 
+pub mod fuzz;
+
 /// An RGB image in memory, row-major from the top-left.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Image {
