@@ -16,12 +16,12 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use embedded_graphics::draw_target::DrawTarget;
-use embedded_graphics::geometry::{OriginDimensions, Point, Size};
+use embedded_graphics::geometry::{Dimensions, Point, Size};
 use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
 use lensray::parse::KEYWORDS;
-use lensray::{render_with, ParseError, Renderer, Scalar, Scene, I16F16};
+use lensray::{render_with, ErrorKind, ParseError, Renderer, Scalar, Scene, I16F16};
 
 /// Image size of the tiny renders: 8 × 6 pixels, 2 lens samples each.
 pub const TINY: (u32, u32, u32) = (8, 6, 2);
@@ -37,47 +37,68 @@ pub enum Outcome {
 
 /// A `DrawTarget` that records every pixel and refuses any outside it or
 /// delivered twice: it checks that a render paints its image exactly once.
+/// It may be placed anywhere in the i32 plane, up to its edges.
 pub struct Canvas {
-    size: Size,
-    /// The pixels, row-major; `None` where nothing was drawn.
+    area: Rectangle,
+    /// The pixels, row-major from the top-left corner; `None` where nothing was drawn.
     pub pixels: Vec<Option<Rgb888>>,
     /// What went wrong, if anything (a pixel out of bounds or drawn twice).
     pub fault: Option<String>,
 }
 
 impl Canvas {
-    /// An empty canvas of `width` × `height`.
+    /// An empty canvas of `width` × `height` at the origin.
     pub fn new(width: u32, height: u32) -> Self {
+        Canvas::at(Point::zero(), width, height)
+    }
+
+    /// An empty canvas of `width` × `height` whose top-left corner is `top_left`.
+    pub fn at(top_left: Point, width: u32, height: u32) -> Self {
         Canvas {
-            size: Size::new(width, height),
+            area: Rectangle::new(top_left, Size::new(width, height)),
             pixels: vec![None; width as usize * height as usize],
             fault: None,
         }
     }
 
-    fn put(&mut self, p: Point, c: Rgb888) {
-        let (w, h) = (self.size.width as i64, self.size.height as i64);
-        let (x, y) = (p.x as i64, p.y as i64);
-        if x < 0 || y < 0 || x >= w || y >= h {
-            self.fault.get_or_insert(format!("pixel ({x}, {y}) outside {w}x{h}"));
+    /// Records a pixel at absolute (`x`, `y`).
+    fn put(&mut self, x: i64, y: i64, c: Rgb888) {
+        let (l, t) = (self.area.top_left.x as i64, self.area.top_left.y as i64);
+        let (w, h) = (self.area.size.width as i64, self.area.size.height as i64);
+        let (dx, dy) = (x - l, y - t);
+        if dx < 0 || dy < 0 || dx >= w || dy >= h || x > i32::MAX as i64 || y > i32::MAX as i64 {
+            self.fault
+                .get_or_insert(format!("pixel ({x}, {y}) outside {w}x{h} at ({l}, {t})"));
             return;
         }
-        let slot = &mut self.pixels[(y * w + x) as usize];
+        let slot = &mut self.pixels[(dy * w + dx) as usize];
         if slot.is_some() {
             self.fault.get_or_insert(format!("pixel ({x}, {y}) drawn twice"));
         }
         *slot = Some(c);
     }
 
-    /// Whether every pixel was drawn (and nothing went wrong).
-    pub fn complete(&self) -> bool {
-        self.fault.is_none() && self.pixels.iter().all(Option::is_some)
+    /// Whether pixel (`col`, `row`) from the corner has an i32 address.
+    pub fn addressable(&self, col: u32, row: u32) -> bool {
+        self.area.top_left.x as i64 + col as i64 <= i32::MAX as i64
+            && self.area.top_left.y as i64 + row as i64 <= i32::MAX as i64
+    }
+
+    /// Whether exactly the addressable pixels were drawn, each once, of an
+    /// image of `cols` × `rows` from the corner.
+    pub fn complete(&self, cols: u32, rows: u32) -> bool {
+        let w = self.area.size.width;
+        self.fault.is_none()
+            && self.pixels.iter().enumerate().all(|(i, p)| {
+                let (c, r) = (i as u32 % w, i as u32 / w);
+                p.is_some() == (c < cols && r < rows && self.addressable(c, r))
+            })
     }
 }
 
-impl OriginDimensions for Canvas {
-    fn size(&self) -> Size {
-        self.size
+impl Dimensions for Canvas {
+    fn bounding_box(&self) -> Rectangle {
+        self.area
     }
 }
 
@@ -87,7 +108,7 @@ impl DrawTarget for Canvas {
 
     fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(&mut self, pixels: I) -> Result<(), Self::Error> {
         for Pixel(p, c) in pixels {
-            self.put(p, c);
+            self.put(p.x as i64, p.y as i64, c);
         }
         Ok(())
     }
@@ -108,12 +129,7 @@ impl DrawTarget for Canvas {
                         .get_or_insert(format!("fill_contiguous ran out of colours at ({x}, {y})"));
                     return Ok(());
                 };
-                match (i32::try_from(x), i32::try_from(y)) {
-                    (Ok(x), Ok(y)) => self.put(Point::new(x, y), c),
-                    _ => {
-                        self.fault.get_or_insert(format!("pixel ({x}, {y}) beyond i32"));
-                    }
-                }
+                self.put(x, y, c);
             }
         }
         Ok(())
@@ -125,28 +141,35 @@ pub fn line_count(bytes: &[u8]) -> usize {
     bytes.iter().filter(|&&b| b == b'\n').count() + 1
 }
 
-/// Renders `scene` at `w` × `h` with `samples` into a [`Canvas`]; `Err` when
-/// a pixel is missing, outside or drawn twice.
-fn render_tiny<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, samples: u32) -> Result<Canvas, String> {
+/// Renders `scene` at `w` × `h` with `samples` into a [`Canvas`] at the
+/// origin and into one at the far corner of the i32 plane; `Err` when a pixel
+/// is missing, outside or drawn twice.
+fn render_tiny<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, samples: u32) -> Result<(), String> {
     let renderer = Renderer::new(scene, w, h).with_samples(samples);
-    let mut canvas = Canvas::new(w, h);
-    let Ok(()) = render_with(&renderer, &mut canvas);
-    if !canvas.complete() {
-        return Err(format!(
-            "{} render {w}x{h}: {}",
-            S::NAME,
-            canvas.fault.clone().unwrap_or_else(|| "a pixel was never drawn".into())
-        ));
+    let corner = Point::new(i32::MAX - (w as i32 / 2 - 1), i32::MAX - (h as i32 / 2 - 1));
+    for top_left in [Point::zero(), corner] {
+        let mut canvas = Canvas::at(top_left, w, h);
+        let Ok(()) = render_with(&renderer, &mut canvas);
+        if !canvas.complete(w, h) {
+            return Err(format!(
+                "{} render {w}x{h} at {top_left:?}: {}",
+                S::NAME,
+                canvas.fault.clone().unwrap_or_else(|| "a pixel was missed".into())
+            ));
+        }
+        // The same pixel asked alone gives the same colour: nothing depends on order.
+        if top_left == Point::zero()
+            && canvas.pixels[(h / 2 * w + w / 2) as usize] != Some(renderer.pixel(w / 2, h / 2))
+        {
+            return Err(format!(
+                "{} pixel ({}, {}) differs between render and pixel()",
+                S::NAME,
+                w / 2,
+                h / 2
+            ));
+        }
     }
-    // The same pixel asked alone gives the same colour: nothing depends on order.
-    let (c, r) = (w / 2, h / 2);
-    if canvas.pixels[(r * w + c) as usize] != Some(renderer.pixel(c, r)) {
-        return Err(format!(
-            "{} pixel ({c}, {r}) differs between render and pixel()",
-            S::NAME
-        ));
-    }
-    Ok(canvas)
+    Ok(())
 }
 
 /// The far corners of the largest image the camera takes: pixel indices and
@@ -166,6 +189,7 @@ fn render_extremes<S: Scalar>(scene: &Scene<S>) {
 pub fn check_input(bytes: &[u8]) -> Result<Outcome, String> {
     let fixed = Scene::<I16F16>::parse_bytes(bytes);
     let float = Scene::<f32>::parse_bytes(bytes);
+    check_equivalents(bytes, &fixed)?;
     match (fixed, float) {
         (Err(e), Err(e32)) => {
             if e != e32 {
@@ -179,6 +203,7 @@ pub fn check_input(bytes: &[u8]) -> Result<Outcome, String> {
             if !msg.starts_with(&format!("line {}: ", e.line)) || msg.contains(['\n', '\r']) || msg.len() > 300 {
                 return Err(format!("error message is not one short line: {msg:?}"));
             }
+            check_first_fault(bytes, &e)?;
             Ok(Outcome::Rejected(e))
         }
         (Ok(a), Ok(b)) => {
@@ -192,6 +217,92 @@ pub fn check_input(bytes: &[u8]) -> Result<Outcome, String> {
         (Ok(_), Err(e)) => Err(format!("only the f32 parser refuses: {e}")),
         (Err(e), Ok(_)) => Err(format!("only the Q16.16 parser refuses: {e}")),
     }
+}
+
+/// Error kinds found only once the object or the file has ended: they may
+/// name an earlier line than the one that revealed them.
+fn deferred(e: &ParseError) -> bool {
+    matches!(
+        e.kind,
+        ErrorKind::TransformsMissing { .. }
+            | ErrorKind::ObjectOutOfRange
+            | ErrorKind::FocalLength { .. }
+            | ErrorKind::UpParallelToLook
+    )
+}
+
+/// The error names the first faulty line: the input cut after that line
+/// gives the very same error (for errors a line shows by itself).
+fn check_first_fault(bytes: &[u8], e: &ParseError) -> Result<(), String> {
+    if deferred(e) {
+        return Ok(());
+    }
+    let end = bytes
+        .iter()
+        .enumerate()
+        .filter(|&(_, &b)| b == b'\n')
+        .nth(e.line as usize - 1)
+        .map_or(bytes.len(), |(i, _)| i);
+    let cut = Scene::<I16F16>::parse_bytes(&bytes[..end]);
+    if cut.as_ref().err() != Some(e) {
+        return Err(format!(
+            "error {e} is not the first fault: lines 1..={} alone give {:?}",
+            e.line,
+            cut.err()
+        ));
+    }
+    Ok(())
+}
+
+/// What the format accepts as equivalent parses the same: CRLF line ends,
+/// trailing spaces and tabs, a byte order mark in front.
+fn check_equivalents(bytes: &[u8], parsed: &Result<Scene<I16F16>, ParseError>) -> Result<(), String> {
+    let summary = |r: &Result<Scene<I16F16>, ParseError>| match r {
+        Ok(s) => Ok((
+            s.camera,
+            s.objects.len(),
+            s.lights.len(),
+            s.ambient,
+            s.background,
+            s.shadows,
+        )),
+        Err(e) => Err(e.clone()),
+    };
+    let want = summary(parsed);
+    let mut variants: Vec<(&str, Vec<u8>)> = Vec::new();
+    if !bytes.contains(&b'\r') {
+        let mut crlf = Vec::with_capacity(bytes.len() + 64);
+        for &b in bytes {
+            if b == b'\n' {
+                crlf.push(b'\r');
+            }
+            crlf.push(b);
+        }
+        variants.push(("CRLF", crlf));
+    }
+    let mut spaced = Vec::with_capacity(bytes.len() + 64);
+    for &b in bytes {
+        if b == b'\n' {
+            // Before the line end, CR included.
+            let cr = spaced.last() == Some(&b'\r');
+            if cr {
+                spaced.pop();
+            }
+            spaced.extend_from_slice(if cr { b" \t \r" } else { b" \t " });
+        }
+        spaced.push(b);
+    }
+    variants.push(("trailing spaces", spaced));
+    if !bytes.starts_with(b"\xEF\xBB\xBF") {
+        variants.push(("a BOM", [b"\xEF\xBB\xBF", bytes].concat()));
+    }
+    for (what, v) in variants {
+        let got = summary(&Scene::<I16F16>::parse_bytes(&v));
+        if got != want {
+            return Err(format!("with {what} the input parses differently: {got:?} vs {want:?}"));
+        }
+    }
+    Ok(())
 }
 
 /// splitmix64: small, fast, and the same on every machine.
@@ -366,6 +477,63 @@ fn number(rng: &mut Rng) -> String {
     }
 }
 
+/// In-range values at the edges: what a valid scene may hold.
+const EDGE_VALID: &[&str] = &[
+    "0",
+    "1",
+    "-1",
+    "0.00002",
+    "0.0001",
+    "0.001",
+    "0.999",
+    "1.001",
+    "3.99999",
+    "4.00001",
+    "7.9999",
+    "90",
+    "180",
+    "-270",
+    "359.99",
+    "1000",
+    "16384",
+    "23170.47",
+    "32767.99",
+    "-32767.99",
+];
+
+/// A number inside Q16.16's range, from everyday sizes to the extremes.
+fn plausible(rng: &mut Rng) -> String {
+    match rng.below(10) {
+        0..=4 => format!("{}", (rng.below(2001) as f64 - 1000.0) / 100.0),
+        5..=7 => {
+            let e = rng.below(31) as i32 - 16;
+            let v = (1.0 + rng.below(1000) as f64 / 1000.0) * 2f64.powi(e);
+            let v = if rng.chance(1, 2) { -v } else { v };
+            format!("{v:.6}")
+        }
+        _ => (*rng.pick(EDGE_VALID)).to_string(),
+    }
+}
+
+/// Whether a statement's values must be positive (or non-negative).
+fn wants_positive(keyword: &str) -> bool {
+    matches!(
+        keyword,
+        "width"
+            | "aspect_ratio"
+            | "image_distance"
+            | "focal_length"
+            | "radius"
+            | "shine"
+            | "texture"
+            | "Ka"
+            | "Kd"
+            | "Ks"
+            | "ambient_light"
+            | "light_intensity"
+    )
+}
+
 /// One statement from the grammar, with the right number of values most of the time.
 fn statement(rng: &mut Rng) -> String {
     // Object and transformation statements are the ones that reach the renderer's depths.
@@ -398,8 +566,22 @@ fn statement(rng: &mut Rng) -> String {
 /// their properties and transformations.
 fn scene_from_grammar(rng: &mut Rng) -> Vec<u8> {
     let mut lines: Vec<String> = Vec::new();
+    const CAMERA: [&str; 12] = [
+        "width",
+        "aspect_ratio",
+        "image_distance",
+        "lens_position",
+        "focal_length",
+        "look",
+        "up",
+        "point",
+        "radius",
+        "ambient_light",
+        "background",
+        "shadows",
+    ];
     for _ in 0..rng.below(6) {
-        let k = *rng.pick(&KEYWORDS[..14]);
+        let k = *rng.pick(&CAMERA);
         lines.push(statement_for(rng, k));
     }
     for _ in 0..rng.below(4) {
@@ -418,15 +600,16 @@ fn scene_from_grammar(rng: &mut Rng) -> Vec<u8> {
             lines.push(statement_for(rng, k));
         }
         let n = rng.below(5);
+        // Most objects in front of the camera, or nothing renders.
+        let in_front = rng.chance(2, 3);
         if rng.chance(1, 2) {
-            lines.push(format!("total_transformation {n}"));
+            lines.push(format!("total_transformation {}", n + in_front as usize));
         }
         for _ in 0..n {
             let k = *rng.pick(&["scale", "rotate", "translate"]);
             lines.push(statement_for(rng, k));
         }
-        if rng.chance(2, 3) {
-            // Most objects in front of the camera, or nothing renders.
+        if in_front {
             lines.push(format!("translate 0 0 -{}", 2 + rng.below(30)));
         }
     }
@@ -453,7 +636,9 @@ fn statement_for(rng: &mut Rng, keyword: &str) -> String {
             ("Ka" | "Kd" | "Ks" | "ambient_light" | "background" | "light_intensity", _) if rng.chance(3, 4) => {
                 format!("{}", rng.below(101) as f64 / 100.0)
             }
-            _ => number(rng),
+            _ if rng.chance(1, 10) => number(rng),
+            (k, _) if wants_positive(k) => plausible(rng).trim_start_matches('-').to_string(),
+            _ => plausible(rng),
         };
         s.push_str(&v);
     }
@@ -626,7 +811,9 @@ pub struct Stats {
     pub rendered: u64,
     /// Rejections by error kind (the variant's name).
     pub kinds: BTreeMap<String, u64>,
-    /// Inputs that broke the property or panicked, with what happened.
+    /// Inputs that broke the property or panicked.
+    pub failed: u64,
+    /// The first 100 of them, with what happened.
     pub failures: Vec<(Vec<u8>, String)>,
 }
 
@@ -664,13 +851,16 @@ impl Fuzzer {
     /// The next input.
     pub fn next_input(&mut self) -> Vec<u8> {
         let rng = &mut self.rng;
-        let mut input = match rng.below(10) {
-            0..=2 => scene_from_grammar(rng),
-            3..=5 if !self.rendered.is_empty() => rng.pick(&self.rendered).clone(),
+        let choice = rng.below(10);
+        let mut input = match choice {
+            0..=3 => scene_from_grammar(rng),
+            4..=6 if !self.rendered.is_empty() => rng.pick(&self.rendered).clone(),
             _ => rng.pick(&self.corpus).clone(),
         };
         let other = rng.pick(&self.corpus).clone();
         let n = match rng.below(4) {
+            // Half the written scenes go in as they are, to reach the renderer.
+            0 | 1 if choice <= 3 => 0,
             0 => 0,
             1 | 2 => 1 + rng.below(3),
             _ => 1 + rng.below(12),
@@ -697,15 +887,22 @@ impl Fuzzer {
                 }
             }
             Ok(Ok(Outcome::Rejected(e))) => *self.stats.kinds.entry(kind_name(&e)).or_default() += 1,
-            Ok(Err(msg)) => self.stats.failures.push((input, msg)),
+            Ok(Err(msg)) => self.fail(input, msg),
             Err(panic) => {
                 let msg = panic
                     .downcast_ref::<String>()
                     .cloned()
                     .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
                     .unwrap_or_else(|| "panic".into());
-                self.stats.failures.push((input, format!("panic: {msg}")));
+                self.fail(input, format!("panic: {msg}"));
             }
+        }
+    }
+
+    fn fail(&mut self, input: Vec<u8>, msg: String) {
+        self.stats.failed += 1;
+        if self.stats.failures.len() < 100 {
+            self.stats.failures.push((input, msg));
         }
     }
 }

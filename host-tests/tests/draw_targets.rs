@@ -9,10 +9,8 @@
 //! than wide), sides past [`MAX_IMAGE_SIDE`], and targets placed anywhere in
 //! the i32 plane, up to its edges.
 
-use embedded_graphics::geometry::Dimensions;
 use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::*;
-use embedded_graphics::primitives::Rectangle;
 use lensray::camera::MAX_IMAGE_SIDE;
 use lensray::{render, Renderer, Scalar, Scene, I16F16};
 use lensray_host::fuzz::Canvas;
@@ -109,63 +107,6 @@ fn rows_past_the_limit_draw_the_first_8192_columns() {
     check(&extreme::<I16F16>(), 10_000, 1);
 }
 
-/// A target whose bounding box lies anywhere in the i32 plane; it records
-/// the pixels it receives, relative to its corner, without overflowing.
-struct Placed {
-    area: Rectangle,
-    pixels: Vec<(i64, i64)>,
-    outside: usize,
-}
-
-impl Dimensions for Placed {
-    fn bounding_box(&self) -> Rectangle {
-        self.area
-    }
-}
-
-impl DrawTarget for Placed {
-    type Color = Rgb888;
-    type Error = core::convert::Infallible;
-
-    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(&mut self, pixels: I) -> Result<(), Self::Error> {
-        for Pixel(p, _) in pixels {
-            self.record(p.x as i64, p.y as i64);
-        }
-        Ok(())
-    }
-
-    fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(
-        &mut self,
-        area: &Rectangle,
-        colors: I,
-    ) -> Result<(), Self::Error> {
-        let (x0, y0) = (area.top_left.x as i64, area.top_left.y as i64);
-        let mut colors = colors.into_iter();
-        for y in y0..y0 + area.size.height as i64 {
-            for x in x0..x0 + area.size.width as i64 {
-                if colors.next().is_none() {
-                    return Ok(());
-                }
-                self.record(x, y);
-            }
-        }
-        Ok(())
-    }
-}
-
-impl Placed {
-    fn record(&mut self, x: i64, y: i64) {
-        let (l, t) = (self.area.top_left.x as i64, self.area.top_left.y as i64);
-        let (w, h) = (self.area.size.width as i64, self.area.size.height as i64);
-        let inside = x >= l && y >= t && x < l + w && y < h + t && x <= i32::MAX as i64 && y <= i32::MAX as i64;
-        if inside {
-            self.pixels.push((x - l, y - t));
-        } else {
-            self.outside += 1;
-        }
-    }
-}
-
 #[test]
 fn targets_placed_anywhere_in_the_plane() {
     let scene = pinhole::<I16F16>();
@@ -179,21 +120,16 @@ fn targets_placed_anywhere_in_the_plane() {
         (max - 3, max - 2),
         (max, max),
     ] {
-        let mut target = Placed {
-            area: Rectangle::new(Point::new(x, y), Size::new(8, 6)),
-            pixels: Vec::new(),
-            outside: 0,
-        };
-        let Ok(()) = render(&scene, &mut target);
-        assert_eq!(target.outside, 0, "target at ({x}, {y}) got pixels outside it");
-        // The pixels that have an i32 address are drawn, each once; the rest of
-        // the image lies beyond the plane.
+        let mut canvas = Canvas::at(Point::new(x, y), 8, 6);
+        let Ok(()) = render(&scene, &mut canvas);
+        assert!(canvas.fault.is_none(), "target at ({x}, {y}): {:?}", canvas.fault);
+        // The pixels with an i32 address are drawn, each once; the rest of the
+        // image lies beyond the plane.
+        let drawn = canvas.pixels.iter().filter(|p| p.is_some()).count() as i64;
         let cols = (max as i64 - x as i64 + 1).min(8);
         let rows = (max as i64 - y as i64 + 1).min(6);
-        let mut want: Vec<(i64, i64)> = (0..rows).flat_map(|r| (0..cols).map(move |c| (c, r))).collect();
-        want.sort();
-        target.pixels.sort();
-        assert_eq!(target.pixels, want, "target at ({x}, {y})");
+        assert_eq!(drawn, cols * rows, "target at ({x}, {y})");
+        assert!(canvas.complete(8, 6), "target at ({x}, {y})");
     }
 }
 

@@ -84,7 +84,7 @@ fn fuzz_parser_and_renderer() {
     let mut report_at = start + Duration::from_secs(300);
     while fuzzer.stats.inputs < max_inputs {
         // Reading the clock every 256 inputs keeps it off the profile.
-        if fuzzer.stats.inputs % 256 == 0 {
+        if fuzzer.stats.inputs.is_multiple_of(256) {
             let now = Instant::now();
             if now >= deadline {
                 break;
@@ -95,7 +95,7 @@ fn fuzz_parser_and_renderer() {
                     "fuzz: {} inputs, {} rendered, {} failures, {:.0} s",
                     fuzzer.stats.inputs,
                     fuzzer.stats.rendered,
-                    fuzzer.stats.failures.len(),
+                    fuzzer.stats.failed,
                     start.elapsed().as_secs_f64()
                 );
             }
@@ -115,8 +115,8 @@ fn fuzz_parser_and_renderer() {
         s.inputs,
         s.inputs as f64 / elapsed,
         s.rendered,
-        s.inputs - s.rendered - s.failures.len() as u64,
-        s.failures.len()
+        s.inputs - s.rendered - s.failed,
+        s.failed
     );
     eprintln!("fuzz: rejections by kind: {:?}", s.kinds);
     let mut report = String::new();
