@@ -17,6 +17,10 @@
 //!   types and dependent only on the pixel.
 //! * Scenes in the paper's plain-text format ([`Scene::parse`]); bad input gives
 //!   a [`ParseError`] naming the line, never a panic.
+//! * No entry point panics, whatever the input, scene or target size: the
+//!   parser, [`render()`], [`render_with`] and [`Renderer`] document
+//!   `# Panics: Never`, and the host tests fuzz them and sweep target sizes
+//!   (README, "Robustness").
 //!
 //! ## Rendering into a display
 //!
@@ -42,7 +46,7 @@
 //! ## Modules
 //!
 //! [`scalar`] (the number trait), [`vec3`], [`transform`], [`lfsr`],
-//! [`camera`], [`shape`], [`scene`], [`parse`], [`render`].
+//! [`camera`], [`shape`], [`scene`], [`parse`], [`render`](mod@render).
 
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]

@@ -400,6 +400,10 @@ impl<S: Scalar> Scene<S> {
     }
 
     /// The colour seen along the ray `o + t d` (unit `d`), unclamped.
+    ///
+    /// # Panics
+    ///
+    /// Never: every operation saturates.
     pub fn trace(&self, o: Vec3<S>, d: Vec3<S>) -> Vec3<S> {
         let Some((i, hit)) = self.closest_hit(o, d, S::EPSILON) else {
             return self.background;

@@ -26,7 +26,11 @@ fn same_bytes_on_any_pool<S: Scalar + Send + Sync>() {
     let one = bmp(&scene, 1);
     // More threads than cores interleave rows in ever new orders.
     for threads in [all, 1, 5, all] {
-        assert!(bmp(&scene, threads) == one, "{}: {threads} threads differ from 1", S::NAME);
+        assert!(
+            bmp(&scene, threads) == one,
+            "{}: {threads} threads differ from 1",
+            S::NAME
+        );
     }
     // Not a blank image: the comparison sees the scene.
     let distinct: std::collections::BTreeSet<&[u8]> = one[54..].chunks(3).collect();
