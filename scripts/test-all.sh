@@ -33,6 +33,7 @@ fi
 step "format and lint"
 cargo fmt --all --check
 cargo clippy --workspace --all-targets -- -D warnings
+RUSTDOCFLAGS="-D warnings" cargo doc -p lensray --no-deps
 
 step "host tests"
 cargo test --workspace -- --skip fuzz_parser_and_renderer

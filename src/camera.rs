@@ -14,6 +14,8 @@
 //! The lens samples arrive from outside (see [`crate::lfsr`]), so the camera
 //! itself is deterministic.
 
+use crate::aperture::Aperture;
+use crate::lfsr::Lfsr;
 use crate::scalar::Scalar;
 use crate::scene::CameraParams;
 use crate::transform::{Affine, Mat34};
@@ -36,17 +38,21 @@ pub struct Camera<S: Scalar> {
     lens_tilt: S,
     /// Pinhole (a = 0): one ray per pixel.
     pinhole: bool,
+    /// Shape of the lens opening the samples are drawn on.
+    aperture: Aperture,
     cols: u32,
     rows: u32,
 }
 
 /// A primary ray in world space, with a unit direction.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Ray<S> {
+pub struct Ray<S: Scalar> {
     /// Origin: the lens point.
     pub origin: Vec3<S>,
     /// Unit direction.
     pub dir: Vec3<S>,
+    /// The same direction, unnormalised and held more precisely (for the plane).
+    pub precise: S::Dir,
 }
 
 /// The camera's orthonormal basis u, v, n in `f64` (n = −look, u = up × n).
@@ -118,6 +124,7 @@ impl<S: Scalar> Camera<S> {
             lens_radius: S::from_f64(if pinhole { 0.0 } else { params.radius }),
             lens_tilt: S::from_f64(lens_tilt),
             pinhole,
+            aperture: Aperture::regular(params.aperture_blades, params.aperture_rotation),
             cols,
             rows,
         }
@@ -138,21 +145,60 @@ impl<S: Scalar> Camera<S> {
         self.pinhole
     }
 
+    /// The shape of the lens opening (`aperture_blades`, `aperture_rotation`).
+    pub fn aperture(&self) -> &Aperture {
+        &self.aperture
+    }
+
+    /// The next lens point (Q1.15, within the unit circle) from a pixel's
+    /// register, uniform on the aperture: integers only, as [`Camera::lens_ray`] takes it.
+    #[inline]
+    pub fn lens_sample(&self, lfsr: &mut Lfsr) -> (i32, i32) {
+        self.aperture.sample(lfsr)
+    }
+
     /// The film point `(u_c, v_r, −N)` of pixel (`col`, `row`), camera frame.
     #[inline]
     pub fn p_film(&self, col: u32, row: u32) -> Vec3<S> {
+        self.film.point(Self::pixel_index(col, row))
+    }
+
+    /// `(2c + 1, 2r + 1, 0)`: what the film transform maps to a film point.
+    #[inline]
+    fn pixel_index(col: u32, row: u32) -> Vec3<S> {
         let c = S::from_i32(2 * col.min(MAX_IMAGE_SIDE) as i32 + 1);
         let r = S::from_i32(2 * row.min(MAX_IMAGE_SIDE) as i32 + 1);
-        self.film.point(Vec3::new(c, r, S::ZERO))
+        Vec3::new(c, r, S::ZERO)
+    }
+
+    /// The film point of pixel (`col`, `row`), rounded and held precisely:
+    /// what [`Camera::chief_ray_from`] and [`Camera::lens_ray_from`] take.
+    #[inline]
+    pub fn film_point(&self, col: u32, row: u32) -> FilmPoint<S> {
+        let i = Self::pixel_index(col, row);
+        FilmPoint {
+            p: self.film.point(i),
+            precise: self.film.point_dir(i),
+        }
     }
 
     /// The chief ray of a film point: from the lens centre E along
     /// `−N n + u_c u + v_r v`, normalised.
     #[inline]
     pub fn chief_ray(&self, p_film: Vec3<S>) -> Ray<S> {
+        self.chief_ray_from(&FilmPoint {
+            p: p_film,
+            precise: S::dir_from(p_film.to_array()),
+        })
+    }
+
+    /// [`Camera::chief_ray`] of a [`FilmPoint`], with its precise direction.
+    #[inline]
+    pub fn chief_ray_from(&self, f: &FilmPoint<S>) -> Ray<S> {
         Ray {
             origin: self.to_world.point(Vec3::ZERO),
-            dir: self.to_world.vector(p_film).normalize(),
+            dir: self.to_world.vector(f.p).normalize(),
+            precise: self.to_world.dir(f.precise),
         }
     }
 
@@ -160,16 +206,38 @@ impl<S: Scalar> Camera<S> {
     /// towards this film point's point in focus.
     #[inline]
     pub fn lens_ray(&self, p_film: Vec3<S>, lens: (i32, i32)) -> Ray<S> {
+        let f = FilmPoint {
+            p: p_film,
+            precise: S::dir_from(p_film.to_array()),
+        };
+        self.lens_ray_from(&f, lens)
+    }
+
+    /// [`Camera::lens_ray`] of a [`FilmPoint`], with its precise direction.
+    #[inline]
+    pub fn lens_ray_from(&self, f: &FilmPoint<S>, lens: (i32, i32)) -> Ray<S> {
         let (sx, sy) = (S::from_q15(lens.0), S::from_q15(lens.1));
         // Lens point on the disk of radius a, camera frame.
         let p_lens = Vec3::new(sx.mul(self.lens_radius), sy.mul(self.lens_radius), S::ZERO);
         // p_focus − p_lens, divided by m: p_film − p_lens / m.
-        let d_cam = p_film - Vec3::new(sx.mul(self.lens_tilt), sy.mul(self.lens_tilt), S::ZERO);
+        let d_cam = f.p - Vec3::new(sx.mul(self.lens_tilt), sy.mul(self.lens_tilt), S::ZERO);
         Ray {
             origin: self.to_world.point(p_lens),
             dir: self.to_world.vector(d_cam).normalize(),
+            precise: self.to_world.dir(S::dir_minus_lens(f.precise, lens, self.lens_tilt)),
         }
     }
+}
+
+/// A pixel's film point in the camera frame: rounded to `S`, and held
+/// precisely (exact products, see [`Scalar::Dir`]) for the rays' precise
+/// directions.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct FilmPoint<S: Scalar> {
+    /// The film point, rounded.
+    pub p: Vec3<S>,
+    /// The film point, precise.
+    pub precise: S::Dir,
 }
 
 #[cfg(test)]

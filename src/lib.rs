@@ -46,14 +46,18 @@
 //! ## Modules
 //!
 //! [`scalar`] (the number trait), [`vec3`], [`transform`], [`lfsr`],
-//! [`camera`], [`shape`], [`scene`], [`parse`], [`render`](mod@render).
+//! [`aperture`], [`camera`], [`autofocus`], [`progressive`], [`shape`], [`scene`],
+//! [`parse`], [`mod@render`].
 
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
 
+pub mod aperture;
+pub mod autofocus;
 pub mod camera;
 pub mod lfsr;
 pub mod parse;
+pub mod progressive;
 pub mod render;
 pub mod scalar;
 pub mod scene;
@@ -69,5 +73,7 @@ pub use scene::{Scene, MAX_LIGHTS, MAX_OBJECTS};
 pub use shape::Shape;
 pub use vec3::Vec3;
 
+#[cfg(test)]
+mod range_tests;
 #[cfg(test)]
 mod tests;

@@ -7,12 +7,12 @@
 
 use core::fmt;
 
-use crate::camera;
 use crate::scalar::Scalar;
 use crate::scene::{Light, Object, ObjectDesc, Scene, DEFAULT_MATERIAL, MATERIALS, MAX_LIGHTS, MAX_OBJECTS};
 use crate::shape::Shape;
 use crate::transform::Mat34;
 use crate::vec3::Vec3;
+use crate::{aperture, autofocus, camera};
 
 /// Magnitudes a real value must stay below: the range of Q16.16.
 pub const REAL_LIMIT: f64 = 32768.0;
@@ -139,6 +139,33 @@ pub enum ErrorKind {
     /// An object's transform puts it beyond Q16.16's range (±32768), or
     /// squeezes it flat.
     ObjectOutOfRange,
+    /// `f_number` makes a lens radius beyond Q16.16's range.
+    ApertureTooWide {
+        /// The radius f / (2k).
+        radius: f64,
+    },
+    /// `focus_on` names an object the scene does not have.
+    NoSuchObject {
+        /// The 1-based index given.
+        index: u32,
+        /// How many objects the scene has.
+        count: usize,
+    },
+    /// `focus_on` names an object whose focus point is not in front of the lens.
+    FocusBehindCamera {
+        /// The 1-based index given.
+        index: u32,
+        /// The focus point's depth along the viewing direction.
+        depth: f64,
+    },
+    /// Part of an object lies 32768 or more from the lens or a light along an
+    /// axis: Q16.16 cannot hold the difference of their coordinates.
+    TooFar {
+        /// "the lens" or "the light".
+        from: &'static str,
+        /// The line of that lens or light (0: the default lens at the origin).
+        line: u32,
+    },
 }
 
 /// A scene that breaks the format: the 1-based line and what is wrong.
@@ -207,6 +234,29 @@ impl fmt::Display for ErrorKind {
                 f,
                 "object: its transformations put it beyond the range of Q16.16 (coordinates below 32768)"
             ),
+            ApertureTooWide { radius } => write!(
+                f,
+                "f_number: the lens radius focal_length / (2 f_number) = {radius} must be below 32768"
+            ),
+            NoSuchObject { index, count } => {
+                write!(f, "focus_on {index}: the scene has only {count} object(s)")
+            }
+            FocusBehindCamera { index, depth } => {
+                // Rounded for reading; + 0.0 turns a rounded −0 into 0.
+                let d = libm::round(depth * 1000.0) / 1000.0 + 0.0;
+                write!(
+                    f,
+                    "focus_on {index}: the object is not in front of the camera (its focus point lies at depth {d})"
+                )
+            }
+            TooFar { from, line: 0 } => write!(
+                f,
+                "object: part of it lies 32768 or more from {from} at the origin along an axis, beyond the range of Q16.16"
+            ),
+            TooFar { from, line } => write!(
+                f,
+                "object: part of it lies 32768 or more from {from} of line {line} along an axis, beyond the range of Q16.16"
+            ),
         }
     }
 }
@@ -218,7 +268,12 @@ impl fmt::Display for ParseError {
 }
 
 /// Every keyword of the format.
-pub const KEYWORDS: [&str; 24] = [
+pub const KEYWORDS: [&str; 29] = [
+    "focus_distance",
+    "f_number",
+    "focus_on",
+    "aperture_blades",
+    "aperture_rotation",
     "width",
     "aspect_ratio",
     "image_distance",
@@ -448,6 +503,12 @@ impl<S: Scalar> Scene<S> {
             scene: Scene::default(),
             object: None,
             lines: CameraLines::default(),
+            focus: Focus::FocalLength,
+            stop: Stop::Radius,
+            focus_target: last_focus_on(bytes),
+            focus_desc: None,
+            placed: heapless::Vec::new(),
+            light_at: heapless::Vec::new(),
         };
         for (i, raw) in bytes.split(|&b| b == b'\n').enumerate() {
             let line = u32::try_from(i + 1).unwrap_or(u32::MAX);
@@ -481,16 +542,71 @@ impl<S: Scalar> Scene<S> {
 /// Lines of the camera statements the final checks refer to.
 #[derive(Default)]
 struct CameraLines {
+    lens_position: u32,
     focal_length: u32,
     image_distance: u32,
     look: u32,
     up: u32,
 }
 
+/// The statement that sets the focus; the last one in the file stands.
+#[derive(Copy, Clone)]
+enum Focus {
+    /// `focal_length` (or the default): as written.
+    FocalLength,
+    /// `focus_distance d`.
+    Distance(f64),
+    /// `focus_on I` on this line.
+    Object { index: u32, line: u32 },
+}
+
+/// The statement that sets the aperture's size; the last one stands.
+#[derive(Copy, Clone)]
+enum Stop {
+    /// `radius` (or the default).
+    Radius,
+    /// `f_number k` on this line, with the focal length in force at the end of the file.
+    FNumber(f64, u32),
+}
+
 struct Parser<S: Scalar> {
     scene: Scene<S>,
     object: Option<Pending>,
     lines: CameraLines,
+    focus: Focus,
+    stop: Stop,
+    /// The index of the file's last `focus_on`, found before parsing: the one
+    /// object whose exact description is kept (no list of them all).
+    focus_target: Option<u32>,
+    focus_desc: Option<ObjectDesc>,
+    /// Each bounded object's line, centre and reach along each axis.
+    placed: heapless::Vec<(u32, [f64; 3], [f64; 3]), MAX_OBJECTS>,
+    /// Each light's line and position.
+    light_at: heapless::Vec<(u32, [f64; 3]), MAX_LIGHTS>,
+}
+
+/// The value of the last `focus_on` line with a whole number, if any: a quick
+/// look ahead, so that an object can be kept for autofocus as it goes by
+/// (the real parse checks every line).
+fn last_focus_on(bytes: &[u8]) -> Option<u32> {
+    let mut target = None;
+    for raw in bytes.split(|&b| b == b'\n') {
+        let stmt = raw.split(|&b| b == b'#').next().unwrap_or(raw);
+        let mut tokens = stmt
+            .split(|&b| b == b' ' || b == b'\t' || b == b'\r')
+            .filter(|t| !t.is_empty());
+        if tokens.next() != Some(b"focus_on".as_slice()) {
+            continue;
+        }
+        if let Some(n) = tokens
+            .next()
+            .and_then(|t| core::str::from_utf8(t).ok())
+            .and_then(|t| t.parse::<u32>().ok())
+        {
+            target = Some(n);
+        }
+    }
+    target
 }
 
 fn positive(x: f64) -> bool {
@@ -534,11 +650,30 @@ impl<S: Scalar> Parser<S> {
                 cam.image_distance = st.one_real(positive, GT0)?;
                 self.lines.image_distance = st.line;
             }
-            "lens_position" => cam.lens_position = st.three(any, "")?,
+            "lens_position" => {
+                cam.lens_position = st.three(any, "")?;
+                self.lines.lens_position = st.line;
+            }
             "focal_length" => {
                 cam.focal_length = st.one_real(positive, GT0)?;
                 self.lines.focal_length = st.line;
+                self.focus = Focus::FocalLength;
             }
+            "focus_distance" => self.focus = Focus::Distance(st.one_real(positive, GT0)?),
+            "focus_on" => {
+                let index = st.integer(1, MAX_OBJECTS as u64, "must be an object's number, from 1 (file order)")?;
+                self.focus = Focus::Object { index, line: st.line };
+            }
+            "f_number" => self.stop = Stop::FNumber(st.one_real(positive, GT0)?, st.line),
+            "aperture_blades" => {
+                const RULE: &str = "must be 0 (round) or between 3 and 16";
+                let n = st.integer(0, aperture::MAX_BLADES as u64, RULE)?;
+                if n == 1 || n == 2 {
+                    return Err(st.range(0, RULE));
+                }
+                cam.aperture_blades = n;
+            }
+            "aperture_rotation" => cam.aperture_rotation = st.one_real(any, "")?,
             "look" | "up" => {
                 let v = st.three(any, "")?;
                 if v == [0.0; 3] {
@@ -553,7 +688,10 @@ impl<S: Scalar> Parser<S> {
                 }
             }
             "point" => cam.samples = st.integer(1, 65535, "must be between 1 and 65535")?,
-            "radius" => cam.radius = st.one_real(non_negative, GE0)?,
+            "radius" => {
+                cam.radius = st.one_real(non_negative, GE0)?;
+                self.stop = Stop::Radius;
+            }
             "ambient_light" => self.scene.ambient = Vec3::from_f64(st.three(non_negative, GE0)?),
             "background" => self.scene.background = Vec3::from_f64(st.three(unit_interval, "must be between 0 and 1")?),
             "shadows" => {
@@ -565,7 +703,10 @@ impl<S: Scalar> Parser<S> {
                 };
             }
             "light_position" => {
-                let position = Vec3::from_f64(st.three(any, "")?);
+                let at = st.three(any, "")?;
+                // Same capacity as the lights: a push that fails here fails below too.
+                let _ = self.light_at.push((st.line, at));
+                let position = Vec3::from_f64(at);
                 let light = Light {
                     position,
                     intensity: Vec3::from_f64([1.0; 3]),
@@ -707,13 +848,24 @@ impl<S: Scalar> Parser<S> {
             return Err(out_of_range);
         }
         let object = Object::new(&obj.desc).ok_or(out_of_range.clone())?;
+        if self.focus_target == Some(self.scene.objects.len() as u32 + 1) {
+            self.focus_desc = Some(obj.desc);
+        }
         self.scene.objects.push(object).map_err(|_| out_of_range)?;
+        if obj.desc.shape.bound_radius().is_some() {
+            let m = &obj.desc.to_world.0;
+            let _ = self.placed.push((
+                obj.line,
+                [m[0][3], m[1][3], m[2][3]],
+                [0, 1, 2].map(|i| reach(obj.desc.shape, &m[i])),
+            ));
+        }
         Ok(())
     }
 
     fn finish_camera(&mut self) -> Result<(), ParseError> {
-        let cam = &self.scene.camera;
-        if cam.focal_length >= cam.image_distance {
+        let cam = &mut self.scene.camera;
+        if matches!(self.focus, Focus::FocalLength) && cam.focal_length >= cam.image_distance {
             return Err(ParseError {
                 line: self.lines.focal_length.max(self.lines.image_distance),
                 kind: ErrorKind::FocalLength {
@@ -728,20 +880,89 @@ impl<S: Scalar> Parser<S> {
                 kind: ErrorKind::UpParallelToLook,
             });
         }
+        // focus_distance and focus_on keep N and set f (1/f = 1/N + 1/d): f < N always.
+        match self.focus {
+            Focus::FocalLength => {}
+            Focus::Distance(d) => cam.set_focus_distance(d),
+            Focus::Object { index, line } => {
+                let count = self.scene.objects.len();
+                let desc = match self.focus_desc {
+                    Some(desc) if index as usize <= count => desc,
+                    _ => {
+                        return Err(ParseError {
+                            line,
+                            kind: ErrorKind::NoSuchObject { index, count },
+                        })
+                    }
+                };
+                let depth = autofocus::focus_distance(cam, &desc);
+                // NaN included: a degenerate view has no depth to focus at.
+                if depth.is_nan() || depth <= 0.0 {
+                    return Err(ParseError {
+                        line,
+                        kind: ErrorKind::FocusBehindCamera { index, depth },
+                    });
+                }
+                cam.set_focus_distance(depth);
+            }
+        }
+        // After the focus: the f-number takes the focal length in force at the end.
+        if let Stop::FNumber(k, line) = self.stop {
+            cam.set_f_number(k);
+            if cam.radius >= REAL_LIMIT {
+                return Err(ParseError {
+                    line,
+                    kind: ErrorKind::ApertureTooWide { radius: cam.radius },
+                });
+            }
+        }
+        // Rays and light vectors are differences of coordinates: each must fit.
+        let points = core::iter::once(("the lens", self.lines.lens_position, cam.lens_position))
+            .chain(self.light_at.iter().map(|&(line, at)| ("the light", line, at)));
+        for (from, line, at) in points {
+            for &(obj_line, centre, reach) in &self.placed {
+                if (0..3).any(|i| libm::fabs(at[i] - centre[i]) + reach[i] >= REAL_LIMIT) {
+                    return Err(ParseError {
+                        line: obj_line,
+                        kind: ErrorKind::TooFar { from, line },
+                    });
+                }
+            }
+        }
         Ok(())
     }
 }
 
-/// Whether an object's matrices fit Q16.16: its centre, its size, and the
-/// inverse's entries (a shape squeezed to 1/32768 would need larger ones).
+/// How far a bounded shape reaches from its centre along the world axis whose
+/// matrix row is `row` (the plane: 0, it is not bounded).
+fn reach(shape: Shape, row: &[f64; 4]) -> f64 {
+    let [a, b, c, _] = *row;
+    match shape {
+        Shape::Plane => 0.0,
+        Shape::Sphere => libm::sqrt(a * a + b * b + c * c),
+        Shape::Cube => libm::fabs(a) + libm::fabs(b) + libm::fabs(c),
+        // A unit disc in x, z swept along y from -1 to 1 (the cone within it).
+        Shape::Cylinder | Shape::Cone => libm::sqrt(a * a + c * c) + libm::fabs(b),
+    }
+}
+
+/// Whether an object fits Q16.16: its matrices' entries, the inverse's
+/// (a shape squeezed to 1/32768 would need larger ones), and every point of
+/// a bounded shape.
 fn in_fixed_range(desc: &ObjectDesc) -> bool {
     let m = &desc.to_world.0;
     let fits = |x: f64| x.abs() < REAL_LIMIT;
     let Some(inv) = desc.to_world.inverse() else {
         return false;
     };
-    m.iter().all(|row| row.iter().all(|&x| fits(x))) && inv.0.iter().all(|row| row[..3].iter().all(|&x| fits(x)))
+    let inside = m.iter().all(|row| fits(libm::fabs(row[3]) + reach(desc.shape, row)));
+    inside
+        && m.iter().all(|row| row.iter().all(|&x| fits(x)))
+        && inv.0.iter().all(|row| row[..3].iter().all(|&x| fits(x)))
 }
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod focus_tests;

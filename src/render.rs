@@ -72,17 +72,17 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// Never, for any `col` and `row` (beyond the image they stand for its last
     /// column and row, as the camera clamps them): all arithmetic saturates.
     pub fn pixel_colour(&self, col: u32, row: u32) -> Vec3<S> {
-        let p_film = self.camera.p_film(col, row);
+        let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
-            let ray = self.camera.chief_ray(p_film);
-            return self.scene.trace(ray.origin, ray.dir);
+            let ray = self.camera.chief_ray_from(&film);
+            return self.scene.trace_dir(ray.origin, ray.dir, ray.precise);
         }
         // The pixel's own register: samples independent of row order and threads.
         let mut lfsr = Lfsr::for_pixel(col, row, 0);
         let mut acc = [S::acc_zero(); 3];
         for _ in 0..self.samples {
-            let ray = self.camera.lens_ray(p_film, lfsr.disk_q15());
-            let c = self.scene.trace(ray.origin, ray.dir);
+            let ray = self.camera.lens_ray_from(&film, self.camera.lens_sample(&mut lfsr));
+            let c = self.scene.trace_dir(ray.origin, ray.dir, ray.precise);
             acc = [
                 S::acc_add(acc[0], c.x),
                 S::acc_add(acc[1], c.y),

@@ -90,6 +90,35 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     /// `a·x + b·y + c·z (+ t if affine)`, with one rounding at the end.
     fn row_apply(row: &Self::Row, v: [Self; 3], affine: bool) -> Self;
 
+    /// The direction `M v` for the three rows of a matrix, as a unit vector
+    /// with its length `|M v|` and, where that is below 1, the reciprocal
+    /// `1 / |M v|` (0 otherwise), all from the exact product: a large scale
+    /// (rows of 1/2000) keeps its precision, where rounding `M v` to `Self`
+    /// first would leave it a few bits. A zero result gives zeros.
+    fn rows_apply_unit(rows: &[Self::Row; 3], v: [Self; 3]) -> ([Self; 3], Self, Self);
+
+    /// A ray direction held more precisely than three `Self` values (Q16.16:
+    /// 31-bit mantissas with a shared power of two), for the unbounded plane,
+    /// whose hits along a grazing ray move by the ray's direction error times
+    /// the square of the distance.
+    type Dir: Copy + core::fmt::Debug + PartialEq + Send + Sync;
+    /// A vector as a precise direction, exactly.
+    fn dir_from(v: [Self; 3]) -> Self::Dir;
+    /// The rows of a matrix applied to a precise direction, from the exact
+    /// product (no rounding but the final 31-bit mantissas).
+    fn rows_apply_dir(rows: &[Self::Row; 3], d: Self::Dir) -> Self::Dir;
+    /// The rows of a matrix applied to a point, with translation, exactly, as
+    /// a precise direction (the camera's film point).
+    fn rows_apply_point_dir(rows: &[Self::Row; 3], v: [Self; 3]) -> Self::Dir;
+    /// `p - (sx · k, sy · k, 0)` exactly, for a lens sample `(sx, sy)` in Q1.15
+    /// (the camera's direction from a lens point towards its point in focus).
+    fn dir_minus_lens(p: Self::Dir, lens: (i32, i32), k: Self) -> Self::Dir;
+    /// Where the ray `lo + s · ld` meets the plane z = 0, for `s > 0`, with
+    /// `world` the same ray's direction in world space (so that distances are
+    /// world distances): `(t, x, y)`, t the world distance, (x, y, 0) the
+    /// object-space point. `None` when the ray is parallel to the plane.
+    fn plane_cross(lo: [Self; 3], ld: Self::Dir, world: Self::Dir) -> Option<(Self, Self, Self)>;
+
     /// The empty accumulator.
     fn acc_zero() -> Self::Acc;
     /// `acc + x`.
@@ -127,6 +156,94 @@ pub struct FixedRow {
     m: [i32; 3],
     t: i64,
     shift: u32,
+}
+
+/// Q16.16's precise direction: `m[i] · 2^e`, with `|m[i]| < 2^31`.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct FixedDir {
+    m: [i64; 3],
+    e: i32,
+}
+
+impl FixedDir {
+    /// Normalises exact i128 components at scale `2^e` to 31-bit mantissas.
+    fn from_wide(w: [i128; 3], e: i32) -> FixedDir {
+        let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
+        let k = (128 - big.leading_zeros()).saturating_sub(31);
+        let m = w.map(|x| {
+            if k == 0 {
+                x as i64
+            } else {
+                (((x >> (k - 1)) + 1) >> 1) as i64
+            }
+        });
+        FixedDir { m, e: e + k as i32 }
+    }
+
+    /// Normalises exact i64 components at scale `2^e` to 31-bit mantissas.
+    #[inline]
+    fn from_i64(w: [i64; 3], e: i32) -> FixedDir {
+        let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
+        let k = (64 - big.leading_zeros()).saturating_sub(31);
+        let m = if k == 0 {
+            w
+        } else {
+            w.map(|x| ((x >> (k - 1)) + 1) >> 1)
+        };
+        FixedDir { m, e: e + k as i32 }
+    }
+
+    /// `rows · v` (+ the translation if `affine`) exactly, for `v` in Q16.16
+    /// bits or mantissas below 2^31, as a direction at scale `2^(e - shift)`.
+    /// Each product is below 2^61 and the translation below 2^60: an i64 sum
+    /// holds a row; rows of different scales meet in i128.
+    #[inline]
+    fn exact_rows(rows: &[FixedRow; 3], v: [i64; 3], affine: bool, e: i32) -> FixedDir {
+        let row = |r: &FixedRow| {
+            r.m[0] as i64 * v[0] + r.m[1] as i64 * v[1] + r.m[2] as i64 * v[2] + if affine { r.t } else { 0 }
+        };
+        let common = rows.iter().map(|r| r.shift).max().unwrap_or(0);
+        if rows.iter().all(|r| r.shift == common) {
+            return FixedDir::from_i64([row(&rows[0]), row(&rows[1]), row(&rows[2])], e - common as i32);
+        }
+        let w: [i128; 3] = core::array::from_fn(|i| (row(&rows[i]) as i128) << (common - rows[i].shift));
+        FixedDir::from_wide(w, e - common as i32)
+    }
+
+    /// `|self|` as a mantissa below 2^32 at scale `2^e`.
+    fn length(&self) -> u64 {
+        let sq: u64 = self.m.iter().map(|&c| (c * c) as u64).sum();
+        let l = isqrt_u64(sq);
+        if sq - l * l > l {
+            l + 1
+        } else {
+            l
+        }
+    }
+}
+
+/// `n / d` rounded to nearest (ties away from zero), for `d != 0`, in i64.
+#[inline]
+fn div_round_i64(n: i64, d: i64) -> i64 {
+    let (nu, du) = (n.unsigned_abs(), d.unsigned_abs());
+    let q = (nu / du + u64::from(nu % du >= du - du / 2)) as i64;
+    if (n < 0) != (d < 0) {
+        -q
+    } else {
+        q
+    }
+}
+
+/// `n / d` rounded to nearest (ties away from zero), for `d != 0`.
+#[inline]
+fn div_round(n: i128, d: i128) -> i128 {
+    let (nu, du) = (n.unsigned_abs(), d.unsigned_abs());
+    let q = ((nu + du / 2) / du) as i128;
+    if (n < 0) != (d < 0) {
+        -q
+    } else {
+        q
+    }
 }
 
 /// Saturates an i64 to the i32 range.
@@ -235,6 +352,7 @@ impl Scalar for I16F16 {
     const NAME: &'static str = "Q16.16";
     type Row = FixedRow;
     type Acc = i64;
+    type Dir = FixedDir;
 
     fn from_f64(x: f64) -> Self {
         let r = x * 65536.0;
@@ -426,6 +544,130 @@ impl Scalar for I16F16 {
         let q = if row.shift == 0 { s } else { shr_round(s, row.shift) };
         I16F16::from_bits(sat32(q))
     }
+    fn rows_apply_unit(rows: &[FixedRow; 3], v: [Self; 3]) -> ([Self; 3], Self, Self) {
+        let zero = ([I16F16::ZERO; 3], I16F16::ZERO, I16F16::ZERO);
+        // The exact product as mantissas x at scale 2^e, cut to 21 bits: the
+        // unit vector needs 17, and the square root's cost grows with the width.
+        let mut d = FixedDir::exact_rows(rows, v.map(|x| x.to_bits() as i64), false, 0);
+        let cut = (64 - d.m.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0).leading_zeros()).saturating_sub(21);
+        if cut > 0 {
+            d.m = d.m.map(|x| ((x >> (cut - 1)) + 1) >> 1);
+            d.e += cut as i32;
+        }
+        let l = d.length();
+        if l == 0 {
+            return zero;
+        }
+        // Unit components in Q16.16, rounded: x · 2^16 / l, through one
+        // reciprocal 2^62 / l; |x| <= l keeps x · recip below 2^62.
+        let recip = (1u64 << 62) / l;
+        let unit = d.m.map(|c| {
+            let q = ((c.unsigned_abs() * recip + (1 << 45)) >> 46) as i64;
+            I16F16::from_bits(sat32(if c < 0 { -q } else { q }))
+        });
+        // The product's value is x · 2^(e - 16): |M v| is l · 2^e in Q16.16 bits.
+        let e = d.e;
+        let shifted = |x: u64, s: i32| -> u64 {
+            if s >= 0 {
+                if s >= 32 || x >> (63 - s) != 0 {
+                    u64::MAX
+                } else {
+                    x << s
+                }
+            } else if s <= -64 {
+                0
+            } else {
+                (x + (1 << (-s - 1))) >> -s
+            }
+        };
+        let len_bits = shifted(l, e);
+        let len = I16F16::from_bits(len_bits.min(i32::MAX as u64) as i32);
+        // 1 / |M v| in Q16.16 bits, 2^32 / (l · 2^e): needed only below 1.
+        let inv = if len_bits >= 1 << 16 {
+            I16F16::ZERO
+        } else {
+            I16F16::from_bits(shifted(recip, -30 - e).min(i32::MAX as u64) as i32)
+        };
+        (unit, len, inv)
+    }
+    fn dir_from(v: [Self; 3]) -> FixedDir {
+        FixedDir {
+            m: v.map(|x| x.to_bits() as i64),
+            e: -16,
+        }
+    }
+    fn rows_apply_dir(rows: &[FixedRow; 3], d: FixedDir) -> FixedDir {
+        FixedDir::exact_rows(rows, d.m, false, d.e)
+    }
+    fn rows_apply_point_dir(rows: &[FixedRow; 3], v: [Self; 3]) -> FixedDir {
+        // The translation is at the products' scale 2^-(shift + 16).
+        FixedDir::exact_rows(rows, v.map(|x| x.to_bits() as i64), true, -16)
+    }
+    fn dir_minus_lens(p: FixedDir, lens: (i32, i32), k: Self) -> FixedDir {
+        // The lens term is exact at 2^-31 (Q1.15 times Q16.16); p at 2^e.
+        let common = p.e.min(-31);
+        let (sp, sl) = ((p.e - common).min(90) as u32, (-31 - common) as u32);
+        let kb = k.to_bits() as i128;
+        let w = [
+            ((p.m[0] as i128) << sp) - ((lens.0 as i128 * kb) << sl),
+            ((p.m[1] as i128) << sp) - ((lens.1 as i128 * kb) << sl),
+            (p.m[2] as i128) << sp,
+        ];
+        FixedDir::from_wide(w, common)
+    }
+    fn plane_cross(lo: [Self; 3], ld: FixedDir, world: FixedDir) -> Option<(Self, Self, Self)> {
+        let dz = ld.m[2];
+        if dz == 0 {
+            return None;
+        }
+        let oz = lo[2].to_bits() as i64;
+        // s = -oz / dz (object units of ld); t = s · |world| = -oz · l / dz · 2^(e_w - e_l).
+        // |oz| <= 2^31 and l < 2^32: the product fits an i64 with a bit to spare.
+        // |world| from mantissas cut to 21 bits (relative 2^-21 is plenty for
+        // t, and the square root's cost grows with the width).
+        let mut world = world;
+        let cut = (64
+            - world
+                .m
+                .iter()
+                .map(|x| x.unsigned_abs())
+                .max()
+                .unwrap_or(0)
+                .leading_zeros())
+        .saturating_sub(21);
+        if cut > 0 {
+            world.m = world.m.map(|x| ((x >> (cut - 1)) + 1) >> 1);
+            world.e += cut as i32;
+        }
+        let num = -oz * world.length() as i64;
+        let shift = world.e - ld.e;
+        let t = if (0..=62).contains(&shift) && num.unsigned_abs() >> (62 - shift) == 0 {
+            div_round_i64(num << shift, dz)
+        } else if (-62..0).contains(&shift) && dz.unsigned_abs() >> (62 + shift) == 0 {
+            div_round_i64(num, dz << -shift)
+        } else if shift > 0 {
+            // Farther than any Q16.16 distance (or exactly on the plane).
+            if num == 0 {
+                0
+            } else {
+                i64::MAX * num.signum()
+            }
+        } else {
+            div_round(num as i128, (dz as i128) << (-shift).min(90)) as i64
+        };
+        if t <= 0 {
+            return None;
+        }
+        // x = ox - ld.x · oz / ld.z: the mantissas' ratio needs no exponent;
+        // each product is below 2^62.
+        let x = lo[0].to_bits() as i64 - div_round_i64(ld.m[0] * oz, dz);
+        let y = lo[1].to_bits() as i64 - div_round_i64(ld.m[1] * oz, dz);
+        Some((
+            I16F16::from_bits(sat32(t)),
+            I16F16::from_bits(sat32(x)),
+            I16F16::from_bits(sat32(y)),
+        ))
+    }
     #[inline]
     fn acc_zero() -> i64 {
         0
@@ -451,6 +693,38 @@ fn pow2(e: u32) -> f64 {
     (1u64 << e) as f64
 }
 
+/// Correctly rounded `sqrt` of a positive f32: libm's, in software.
+#[cfg(not(all(feature = "hw-sqrt", target_arch = "arm", target_abi = "eabihf")))]
+#[inline]
+fn sqrt_f32(x: f32) -> f32 {
+    libm::sqrtf(x)
+}
+
+/// Correctly rounded `sqrt` of a positive f32: the FPU's `vsqrt.f32` (IEEE 754
+/// requires it correctly rounded, so it equals libm's `sqrtf` bit for bit).
+#[cfg(all(feature = "hw-sqrt", target_arch = "arm", target_abi = "eabihf"))]
+#[inline]
+fn sqrt_f32(x: f32) -> f32 {
+    let r: u32;
+    // Stable Rust refuses FPU register operands here (`vfp2` is an unstable
+    // target feature), so the value goes through s0, which is saved and restored.
+    // SAFETY: FPU register moves and one square root; s0 is left as it was.
+    unsafe {
+        core::arch::asm!(
+            "vmov {save}, s0",
+            "vmov s0, {x}",
+            "vsqrt.f32 s0, s0",
+            "vmov {r}, s0",
+            "vmov s0, {save}",
+            x = in(reg) x.to_bits(),
+            r = lateout(reg) r,
+            save = out(reg) _,
+            options(pure, nomem, nostack, preserves_flags),
+        );
+    }
+    f32::from_bits(r)
+}
+
 impl Scalar for f32 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
@@ -458,7 +732,11 @@ impl Scalar for f32 {
     const EPSILON: Self = 1.0 / 1024.0;
     const NAME: &'static str = "f32";
     type Row = [f32; 4];
-    type Acc = f32;
+    /// f64, so that summing many samples adds no error of its own (the Q16.16
+    /// sum is exact in i64): an f32 sum of seventy 0.1s lands below 7 and turns
+    /// a colour of exactly 25.5 levels into 25 instead of 26.
+    type Acc = f64;
+    type Dir = [f32; 3];
 
     fn from_f64(x: f64) -> Self {
         x as f32
@@ -512,7 +790,7 @@ impl Scalar for f32 {
         if self <= 0.0 {
             0.0
         } else {
-            libm::sqrtf(self)
+            sqrt_f32(self)
         }
     }
     fn powf(self, e: Self) -> Self {
@@ -553,16 +831,50 @@ impl Scalar for f32 {
             s
         }
     }
+    fn rows_apply_unit(rows: &[[f32; 4]; 3], v: [Self; 3]) -> ([Self; 3], Self, Self) {
+        let w = rows.map(|r| Self::row_apply(&r, v, false));
+        let (unit, len) = Self::normalize3(w);
+        if len == 0.0 {
+            return ([0.0; 3], 0.0, 0.0);
+        }
+        (unit, len, if len >= 1.0 { 0.0 } else { 1.0 / len })
+    }
+    fn dir_from(v: [Self; 3]) -> [f32; 3] {
+        v
+    }
+    fn rows_apply_dir(rows: &[[f32; 4]; 3], d: [f32; 3]) -> [f32; 3] {
+        rows.map(|r| Self::row_apply(&r, d, false))
+    }
+    fn rows_apply_point_dir(rows: &[[f32; 4]; 3], v: [Self; 3]) -> [f32; 3] {
+        rows.map(|r| Self::row_apply(&r, v, true))
+    }
+    fn dir_minus_lens(p: [f32; 3], lens: (i32, i32), k: Self) -> [f32; 3] {
+        [
+            p[0] - Self::from_q15(lens.0) * k,
+            p[1] - Self::from_q15(lens.1) * k,
+            p[2],
+        ]
+    }
+    fn plane_cross(lo: [Self; 3], ld: [f32; 3], world: [f32; 3]) -> Option<(Self, Self, Self)> {
+        if ld[2] == 0.0 {
+            return None;
+        }
+        let s = -lo[2] / ld[2];
+        if s <= 0.0 {
+            return None;
+        }
+        Some((s * Self::length3(world), lo[0] + ld[0] * s, lo[1] + ld[1] * s))
+    }
     #[inline]
-    fn acc_zero() -> f32 {
+    fn acc_zero() -> f64 {
         0.0
     }
     #[inline]
-    fn acc_add(acc: f32, x: Self) -> f32 {
-        acc + x
+    fn acc_add(acc: f64, x: Self) -> f64 {
+        acc + x as f64
     }
-    fn acc_mean(acc: f32, n: u32) -> Self {
-        acc / n.max(1) as f32
+    fn acc_mean(acc: f64, n: u32) -> Self {
+        (acc / n.max(1) as f64) as f32
     }
     #[inline]
     fn to_u8(self) -> u8 {

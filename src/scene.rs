@@ -6,7 +6,7 @@
 //! [`crate::camera::Camera::new`]).
 
 use crate::scalar::Scalar;
-use crate::shape::Shape;
+use crate::shape::{LocalHit, Shape};
 use crate::transform::{Affine, Mat34};
 use crate::vec3::Vec3;
 
@@ -36,6 +36,13 @@ pub struct CameraParams {
     pub samples: u32,
     /// Lens radius a (`radius`); 0 is a pinhole.
     pub radius: f64,
+    /// Blades of the aperture (`aperture_blades`): 0 is a round aperture, else
+    /// the lens is a regular polygon of that many sides (3 to
+    /// [`crate::aperture::MAX_BLADES`]) inscribed in the circle of radius a.
+    pub aperture_blades: u32,
+    /// Rotation of the aperture polygon in degrees (`aperture_rotation`): at 0
+    /// a corner points along the camera's u (right); positive turns towards v (up).
+    pub aperture_rotation: f64,
 }
 
 impl Default for CameraParams {
@@ -50,6 +57,8 @@ impl Default for CameraParams {
             up: [0.0, 1.0, 0.0],
             samples: 1,
             radius: 0.0,
+            aperture_blades: 0,
+            aperture_rotation: 0.0,
         }
     }
 }
@@ -58,6 +67,30 @@ impl CameraParams {
     /// Distance of the plane in focus from the lens: f·N / (N − f).
     pub fn focus_depth(&self) -> f64 {
         self.focal_length * self.image_distance / (self.image_distance - self.focal_length)
+    }
+
+    /// The focal length that puts the plane in focus at distance `d > 0` with
+    /// the image distance N kept (thin lens: 1/f = 1/N + 1/d), so the framing
+    /// stays as it is: N d / (N + d), always between 0 and N.
+    pub fn focal_length_for_distance(&self, d: f64) -> f64 {
+        self.image_distance * d / (self.image_distance + d)
+    }
+
+    /// Refocuses at distance `d > 0` (`focus_distance`): sets the focal length
+    /// by [`CameraParams::focal_length_for_distance`].
+    pub fn set_focus_distance(&mut self, d: f64) {
+        self.focal_length = self.focal_length_for_distance(d);
+    }
+
+    /// The f-number f / (2a); infinite for a pinhole.
+    pub fn f_number(&self) -> f64 {
+        self.focal_length / (2.0 * self.radius)
+    }
+
+    /// Sets the lens radius from an f-number `k > 0` (`f_number`) and the
+    /// current focal length: a = f / (2k). Call it after any refocus.
+    pub fn set_f_number(&mut self, k: f64) {
+        self.radius = self.focal_length / (2.0 * k);
     }
 }
 
@@ -246,13 +279,38 @@ impl<S: Scalar> Object<S> {
     /// The nearest hit of the world ray `o + t d` (unit `d`) with
     /// `t_min < t < t_max`.
     pub fn intersect(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<Hit<S>> {
+        self.intersect_dir(o, d, S::dir_from(d.to_array()), t_min, t_max)
+    }
+
+    /// As [`Object::intersect`], with `precise` the ray's direction held more
+    /// precisely (any length; see [`Scalar::Dir`]), which the plane uses.
+    pub fn intersect_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, t_min: S, t_max: S) -> Option<Hit<S>> {
         let Some((center, radius)) = self.bound else {
-            // Unbounded plane: t is shared by both spaces (the map is linear in t).
+            // Unbounded plane: from the ray's own origin, with the precise
+            // direction (a grazing hit 100 away moves by 100² times its error).
             let lo = self.to_object.point(o);
-            let ld = self.to_object.vector(d);
-            let h = self.shape.intersect(lo, ld, t_min, t_max)?;
-            return Some(Hit { t: h.t, local: h });
+            let (t, x, y) = S::plane_cross(lo.to_array(), self.to_object.dir(precise), precise)?;
+            if t <= t_min || t >= t_max {
+                return None;
+            }
+            let local = LocalHit {
+                t,
+                p: Vec3::new(x, y, S::ZERO),
+                n: Vec3::new(S::ZERO, S::ZERO, S::ONE),
+            };
+            return Some(Hit { t, local });
         };
+        // The object-space direction as a unit vector, with the factor between
+        // world and object distances: kept as |A d| where that is 1 or more and
+        // as 1 / |A d| where it is below (a large object's 1/2000 would keep only
+        // five bits in Q16.16, its reciprocal all of them).
+        let (ld, len, inv_len) = self.to_object.vector_unit(d);
+        if len == S::ZERO && inv_len == S::ZERO {
+            return None;
+        }
+        let by_len = len >= S::ONE;
+        let to_local = |t: S| if by_len { t.mul(len) } else { t.div(inv_len) };
+        let to_world = |t: S| if by_len { t.div(len) } else { t.mul(inv_len) };
         // Cheap reject against the world bounding sphere.
         let oc = center - o;
         let tc = oc.dot(d);
@@ -265,14 +323,10 @@ impl<S: Scalar> Object<S> {
         // Re-origin the ray at the sphere's edge so object-space numbers stay small.
         let t_off = tc.sub(radius).max(S::ZERO);
         let lo = self.to_object.point(o + d * t_off);
-        let (ld, len) = self.to_object.vector(d).normalize_len();
-        if len == S::ZERO {
-            return None;
-        }
-        let lt_min = t_min.sub(t_off).mul(len);
-        let lt_max = t_max.sub(t_off).mul(len);
+        let lt_min = to_local(t_min.sub(t_off));
+        let lt_max = to_local(t_max.sub(t_off));
         let h = self.shape.intersect(lo, ld, lt_min, lt_max)?;
-        let t = t_off.add(h.t.div(len));
+        let t = t_off.add(to_world(h.t));
         if t <= t_min || t >= t_max {
             return None;
         }
@@ -281,7 +335,9 @@ impl<S: Scalar> Object<S> {
 
     /// The world-space unit normal at a hit, turned to face against `d`.
     pub fn normal(&self, hit: &Hit<S>, d: Vec3<S>) -> Vec3<S> {
-        let n = self.normal_to_world.vector(hit.local.n).normalize();
+        // From the exact product: a large object's inverse transpose has entries of
+        // 1/500, which rounded first would leave the normal a few bits.
+        let n = self.normal_to_world.vector_unit(hit.local.n).0;
         if n.dot(d) > S::ZERO {
             -n
         } else {
@@ -381,10 +437,15 @@ impl<S: Scalar> Default for Scene<S> {
 impl<S: Scalar> Scene<S> {
     /// The nearest object hit by the ray `o + t d` (unit `d`) with `t_min < t`.
     pub fn closest_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S) -> Option<(usize, Hit<S>)> {
+        self.closest_hit_dir(o, d, S::dir_from(d.to_array()), t_min)
+    }
+
+    /// As [`Scene::closest_hit`], with the ray's direction also held precisely.
+    pub fn closest_hit_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, t_min: S) -> Option<(usize, Hit<S>)> {
         let mut best: Option<(usize, Hit<S>)> = None;
         for (i, obj) in self.objects.iter().enumerate() {
             let t_max = best.map_or(S::MAX, |(_, h)| h.t);
-            if let Some(h) = obj.intersect(o, d, t_min, t_max) {
+            if let Some(h) = obj.intersect_dir(o, d, precise, t_min, t_max) {
                 best = Some((i, h));
             }
         }
@@ -405,7 +466,13 @@ impl<S: Scalar> Scene<S> {
     ///
     /// Never: every operation saturates.
     pub fn trace(&self, o: Vec3<S>, d: Vec3<S>) -> Vec3<S> {
-        let Some((i, hit)) = self.closest_hit(o, d, S::EPSILON) else {
+        self.trace_dir(o, d, S::dir_from(d.to_array()))
+    }
+
+    /// As [`Scene::trace`], with the ray's direction also held precisely
+    /// (any length): the camera's rays, see [`crate::camera::Ray`].
+    pub fn trace_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir) -> Vec3<S> {
+        let Some((i, hit)) = self.closest_hit_dir(o, d, precise, S::EPSILON) else {
             return self.background;
         };
         let obj = &self.objects[i];
@@ -438,5 +505,102 @@ impl<S: Scalar> Scene<S> {
             colour = colour + (diffuse + specular).hadamard(light.intensity);
         }
         colour
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fixed::types::I16F16;
+
+    fn object<S: Scalar>(shape: Shape, to_world: Mat34) -> Object<S> {
+        let (_, ka, kd, ks, shine) = DEFAULT_MATERIAL;
+        Object::new(&ObjectDesc {
+            shape,
+            ka,
+            kd,
+            ks,
+            shine,
+            texture: 0.0,
+            to_world,
+        })
+        .unwrap()
+    }
+
+    /// World-space hit distance and unit normal (facing the ray), in f64.
+    fn hit<S: Scalar>(obj: &Object<S>, o: [f64; 3], d: [f64; 3]) -> Option<(f64, [f64; 3])> {
+        let (o, d) = (Vec3::<S>::from_f64(o), Vec3::<S>::from_f64(d).normalize());
+        let h = obj.intersect(o, d, S::EPSILON, S::MAX)?;
+        Some((h.t.to_f64(), obj.normal(&h, d).to_f64()))
+    }
+
+    fn both(shape: Shape, m: Mat34, o: [f64; 3], d: [f64; 3]) -> Option<(f64, [f64; 3])> {
+        let a = hit(&object::<f32>(shape, m), o, d);
+        let b = hit(&object::<I16F16>(shape, m), o, d);
+        assert_eq!(a.is_some(), b.is_some(), "{shape:?}: f32 {a:?} vs Q16.16 {b:?}");
+        if let (Some(x), Some(y)) = (a, b) {
+            assert!((x.0 - y.0).abs() < 2e-3, "t {x:?} vs {y:?}");
+            assert!((0..3).all(|i| (x.1[i] - y.1[i]).abs() < 2e-3), "n {x:?} vs {y:?}");
+        }
+        a
+    }
+
+    fn close(a: [f64; 3], b: [f64; 3]) -> bool {
+        (0..3).all(|i| (a[i] - b[i]).abs() < 2e-3)
+    }
+
+    #[test]
+    fn scaled_and_moved_sphere() {
+        // Radius 2 at (1, 0, -10): the ray down -z from (1, 0, 0) hits at depth 8.
+        let m = Mat34::translate([1.0, 0.0, -10.0]).after(&Mat34::scale([2.0; 3]));
+        let (t, n) = both(Shape::Sphere, m, [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]).unwrap();
+        assert!((t - 8.0).abs() < 2e-3 && close(n, [0.0, 0.0, 1.0]), "{t} {n:?}");
+        // An ellipsoid squashed in z: semi-axis 0.5 along z.
+        let m = Mat34::translate([0.0, 0.0, -5.0]).after(&Mat34::scale([1.0, 1.0, 0.5]));
+        let (t, _) = both(Shape::Sphere, m, [0.0, 0.0, 0.0], [0.0, 0.0, -1.0]).unwrap();
+        assert!((t - 4.5).abs() < 2e-3);
+        // Normals of a non-uniformly scaled shape need the inverse transpose:
+        // at 45° around an ellipse x²/4 + y² = 1 the normal is not radial.
+        let m = Mat34::scale([2.0, 1.0, 1.0]);
+        let p = [2.0f64.sqrt(), 0.5f64.sqrt(), 0.0];
+        let (_, n) = both(Shape::Sphere, m, [p[0] * 3.0, p[1] * 3.0, 0.0], [-p[0], -p[1], 0.0]).unwrap();
+        let want = [p[0] / 4.0, p[1], 0.0];
+        let l = (want[0] * want[0] + want[1] * want[1]).sqrt();
+        assert!(close(n, want.map(|x| x / l)), "{n:?}");
+    }
+
+    #[test]
+    fn rotated_cube_and_floor() {
+        // Program 1's cube: rotated 45° about y, its edge faces the camera.
+        let m = Mat34::translate([0.0, 0.0, -6.0]).after(&Mat34::rotate(1, 45.0));
+        let (t, n) = both(Shape::Cube, m, [0.0, 0.0, 0.0], [0.0, 0.0, -1.0]).unwrap();
+        assert!((t - (6.0 - 2.0f64.sqrt())).abs() < 2e-3, "{t}");
+        let s = 0.5f64.sqrt();
+        assert!(close(n, [s, 0.0, s]) || close(n, [-s, 0.0, s]), "{n:?}");
+        // Program 1's floor: plane rotated -80° about x and lowered to y = -3.
+        let m = Mat34::translate([0.0, -3.0, 0.0]).after(&Mat34::rotate(0, -80.0));
+        let (t, n) = both(Shape::Plane, m, [0.0, 0.0, 0.0], [0.0, -1.0, 0.0]).unwrap();
+        // Straight down from the origin: the plane holds (0, -3, 0), so t = 3,
+        // and its normal is +z turned by -80° about x (tipped up towards +y).
+        let normal = Mat34::rotate(0, -80.0).apply([0.0, 0.0, 1.0], false);
+        assert!(normal[1] > 0.98 && close(n, normal), "{n:?} vs {normal:?}");
+        assert!((t - 3.0).abs() < 2e-3, "{t}");
+        // A ray parallel to a level floor, just above it, never meets it (exact
+        // values: a rounded direction may cross a tilted floor far away).
+        let level = Mat34::translate([0.0, -3.0, 0.0]).after(&Mat34::rotate(0, -90.0));
+        assert!(both(Shape::Plane, level, [0.0, -2.99, 0.0], [1.0, 0.0, -1.0]).is_none());
+        assert!(both(Shape::Plane, level, [0.0, -2.99, 0.0], [1.0, -0.01, -1.0]).is_some());
+    }
+
+    #[test]
+    fn rays_from_inside_and_behind() {
+        let m = Mat34::translate([0.0, 0.0, -5.0]).after(&Mat34::scale([3.0; 3]));
+        // From the centre of a big cylinder: the side at distance 3, normal facing back.
+        let (t, n) = both(Shape::Cylinder, m, [0.0, 0.0, -5.0], [1.0, 0.0, 0.0]).unwrap();
+        assert!((t - 3.0).abs() < 2e-3 && close(n, [-1.0, 0.0, 0.0]), "{t} {n:?}");
+        // Behind the ray: nothing.
+        assert!(both(Shape::Cone, m, [0.0, 0.0, 0.0], [0.0, 0.0, 1.0]).is_none());
+        // Grazing the bounding sphere but missing the cube inside it.
+        assert!(both(Shape::Cube, m, [3.5, 3.5, 0.0], [0.0, 0.0, -1.0]).is_none());
     }
 }

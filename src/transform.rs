@@ -159,6 +159,27 @@ impl<S: Scalar> Affine<S> {
         )
     }
 
+    /// Transforms a direction to a unit vector, with the transformed length
+    /// and its reciprocal, at full precision (see [`Scalar::rows_apply_unit`]).
+    #[inline]
+    pub fn vector_unit(&self, v: Vec3<S>) -> (Vec3<S>, S, S) {
+        let (u, len, inv) = S::rows_apply_unit(&self.rows, v.to_array());
+        (Vec3::from_array(u), len, inv)
+    }
+
+    /// Transforms a precise direction (see [`Scalar::rows_apply_dir`]).
+    #[inline]
+    pub fn dir(&self, d: S::Dir) -> S::Dir {
+        S::rows_apply_dir(&self.rows, d)
+    }
+
+    /// Transforms a point exactly into a precise direction (see
+    /// [`Scalar::rows_apply_point_dir`]).
+    #[inline]
+    pub fn point_dir(&self, p: Vec3<S>) -> S::Dir {
+        S::rows_apply_point_dir(&self.rows, p.to_array())
+    }
+
     /// One coordinate of a transformed point (`i` in 0..3).
     #[inline]
     pub fn point_coord(&self, i: usize, p: Vec3<S>) -> S {

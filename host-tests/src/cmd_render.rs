@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use lensray::{Scalar, I16F16};
 use lensray_host::{encode, load_scene, write_atomic, Format};
 
-use crate::opts::{image_size, parse_opts, render_with_progress};
+use crate::opts::{image_size, parse_opts, render_passes_to, render_with_progress};
 use crate::{Fail, USAGE};
 
 pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
@@ -35,11 +35,17 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     let (img, kind) = if o.float {
         let scene = load_scene::<f32>(scene_path)?;
         let (w, h) = image_size(&o, scene.camera.aspect_ratio)?;
-        (render_with_progress(&scene, w, h, o.samples), f32::NAME)
+        match &o.passes {
+            Some(dir) => (render_passes_to(&scene, w, h, &o, dir)?, f32::NAME),
+            None => (render_with_progress(&scene, w, h, o.samples), f32::NAME),
+        }
     } else {
         let scene = load_scene::<I16F16>(scene_path)?;
         let (w, h) = image_size(&o, scene.camera.aspect_ratio)?;
-        (render_with_progress(&scene, w, h, o.samples), I16F16::NAME)
+        match &o.passes {
+            Some(dir) => (render_passes_to(&scene, w, h, &o, dir)?, I16F16::NAME),
+            None => (render_with_progress(&scene, w, h, o.samples), I16F16::NAME),
+        }
     };
     let bytes = encode(&img, format)?;
     write_atomic(&out, &bytes).map_err(|e| Fail(format!("{}: cannot write: {e}", out.display())))?;

@@ -10,7 +10,10 @@ use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
 use lensray::{Renderer, Scalar, Scene};
 use rayon::prelude::*;
 
+pub mod canvas;
 pub mod fuzz;
+pub mod passes;
+pub mod sheet;
 
 /// An RGB image in memory, row-major from the top-left.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -308,6 +311,98 @@ impl fmt::Display for Diff {
     }
 }
 
+/// Where the error between two images lines up, row by row and column by
+/// column (levels of 255).
+///
+/// A render whose error is noise keeps these near the image's own mean error;
+/// a systematic fault (a row of pixels shifted, a band of flipped checker
+/// squares, a colour rounded the wrong way over a whole face) shows up as one
+/// line far above it. Two measures per line: the mean of each pixel's worst
+/// channel error (noise counts), and the bias, the largest mean signed error
+/// `a − b` of any channel (noise cancels, a consistent shift does not).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct LineErrors {
+    /// The row with the largest mean error: (row, mean).
+    pub worst_row: (u32, f64),
+    /// The column with the largest mean error: (column, mean).
+    pub worst_col: (u32, f64),
+    /// The row with the largest bias: (row, |mean signed error|).
+    pub worst_row_bias: (u32, f64),
+    /// The column with the largest bias: (column, |mean signed error|).
+    pub worst_col_bias: (u32, f64),
+}
+
+impl LineErrors {
+    /// Row and column errors of two images of the same size (`None` when
+    /// sizes differ or an image is empty).
+    pub fn of(a: &Image, b: &Image) -> Option<LineErrors> {
+        if (a.width, a.height) != (b.width, b.height) || a.pixels.is_empty() {
+            return None;
+        }
+        let (w, h) = (a.width as usize, a.height as usize);
+        // Per line: sum of worst-channel errors, and signed sums per channel.
+        let mut rows = vec![(0i64, [0i64; 3]); h];
+        let mut cols = vec![(0i64, [0i64; 3]); w];
+        for (i, (p, q)) in a.pixels.iter().zip(&b.pixels).enumerate() {
+            let d = [
+                p.r() as i64 - q.r() as i64,
+                p.g() as i64 - q.g() as i64,
+                p.b() as i64 - q.b() as i64,
+            ];
+            let m = d.iter().map(|x| x.abs()).max().unwrap_or(0);
+            for line in [&mut rows[i / w], &mut cols[i % w]] {
+                line.0 += m;
+                for (sum, x) in line.1.iter_mut().zip(d) {
+                    *sum += x;
+                }
+            }
+        }
+        let worst = |lines: &[(i64, [i64; 3])], n: usize, f: fn(&(i64, [i64; 3])) -> i64| {
+            let (i, s) = lines
+                .iter()
+                .enumerate()
+                .map(|(i, l)| (i, f(l)))
+                .max_by_key(|(_, s)| *s)
+                .unwrap_or((0, 0));
+            (i as u32, s as f64 / n as f64)
+        };
+        let abs = |l: &(i64, [i64; 3])| l.0;
+        let bias = |l: &(i64, [i64; 3])| l.1.iter().map(|x| x.abs()).max().unwrap_or(0);
+        Some(LineErrors {
+            worst_row: worst(&rows, w, abs),
+            worst_col: worst(&cols, h, abs),
+            worst_row_bias: worst(&rows, w, bias),
+            worst_col_bias: worst(&cols, h, bias),
+        })
+    }
+}
+
+impl fmt::Display for LineErrors {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (r, c, rb, cb) = (self.worst_row, self.worst_col, self.worst_row_bias, self.worst_col_bias);
+        writeln!(f, "worst row   {:.4} levels mean, row {}", r.1, r.0)?;
+        writeln!(f, "worst col   {:.4} levels mean, column {}", c.1, c.0)?;
+        writeln!(f, "row bias    {:.4} levels, row {}", rb.1, rb.0)?;
+        write!(f, "col bias    {:.4} levels, column {}", cb.1, cb.0)
+    }
+}
+
+/// A scene rendered in both number types at the same size and samples:
+/// Q16.16 first, the f32 reference second.
+pub fn render_both(
+    fixed: &Scene<lensray::I16F16>,
+    float: &Scene<f32>,
+    width: u32,
+    height: u32,
+    samples: Option<u32>,
+) -> (Image, Image) {
+    let none = || {};
+    (
+        render_image(fixed, width, height, samples, &none),
+        render_image(float, width, height, samples, &none),
+    )
+}
+
 /// Image measures for the tests of the paper's claims: focus and extent.
 pub mod measure {
     use super::Image;
@@ -342,6 +437,29 @@ pub mod measure {
         let mut n = 0u64;
         for y in y0..y1 {
             for x in x0..x1 {
+                let gx = (luma(img, x + 1, y) - luma(img, x - 1, y)) / 2.0;
+                let gy = (luma(img, x, y + 1) - luma(img, x, y - 1)) / 2.0;
+                sum += gx * gx + gy * gy;
+                n += 1;
+            }
+        }
+        if n == 0 {
+            0.0
+        } else {
+            sum / n as f64
+        }
+    }
+
+    /// Mean gradient energy over the pixels of a box for which `pred` holds
+    /// (e.g. a ring around a silhouette): as [`gradient_energy`], but
+    /// background texture outside the mask does not count.
+    pub fn gradient_energy_where(img: &Image, b: PixelBox, pred: impl Fn(u32, u32) -> bool) -> f64 {
+        let (x0, y0) = (b.x0.max(1), b.y0.max(1));
+        let (x1, y1) = (b.x1.min(img.width - 1), b.y1.min(img.height - 1));
+        let mut sum = 0.0;
+        let mut n = 0u64;
+        for y in y0..y1 {
+            for x in (x0..x1).filter(|&x| pred(x, y)) {
                 let gx = (luma(img, x + 1, y) - luma(img, x - 1, y)) / 2.0;
                 let gy = (luma(img, x, y + 1) - luma(img, x, y - 1)) / 2.0;
                 sum += gx * gx + gy * gy;

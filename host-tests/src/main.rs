@@ -2,6 +2,11 @@
 //!
 //! ```text
 //! lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
+//!                      [--passes DIR [--first-step S] [--preview-samples P]]
+//! lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT] [render options]
+//! lensray emulate SCENE --board microbit|mps2-an386 [-o OUT] [--width W] [--height H] [--samples N] [--float]
+//! lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
+//! lensray compare A.bmp B.bmp [--diff OUT]
 //! ```
 //!
 //! Exit status: 0 on success, 2 on any error (bad scene, bad arguments,
@@ -11,17 +16,47 @@
 
 use std::process::ExitCode;
 
+mod cmd_compare;
+mod cmd_emulate;
 mod cmd_render;
+mod cmd_sheet;
 mod opts;
 
 pub(crate) const USAGE: &str = "usage:
   lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
+                       [--passes DIR [--first-step S] [--preview-samples P]]
+  lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT]
+                       [--width W] [--height H] [--samples N] [--float]
+  lensray emulate SCENE --board microbit|mps2-an386 [-o OUT] [--width W] [--height H]
+                  [--samples N] [--float] [--soft-sqrt] [--timeout SECONDS]
+  lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
+  lensray compare A B [--diff OUT]
 
   render   renders a scene file to OUT (.bmp or .png; default: the scene's
            name with .bmp, in the current directory). --width defaults to 640,
            --height to round(width / aspect_ratio); --samples overrides the
            scene's `point`; --float renders with the f32 reference instead of
-           Q16.16.";
+           Q16.16. --passes renders progressively as a display would show
+           it and saves the picture after each pass as DIR/pass-1.png ...:
+           a preview of SxS blocks (S = --first-step, default 8) with P lens
+           samples (--preview-samples, default 1; 0 for none), then the same
+           blocks and ever finer ones at the full samples; the last pass is
+           the plain render, also written to OUT.
+  sheet    renders each scene (--width default 320) and lays them side by side,
+           C a row (default up to 4), each captioned with its file name and
+           camera, under an optional title, into SHEET (default sheet.png).
+  emulate  builds the firmware (../firmware) with the scene embedded, runs it
+           under QEMU on the board (qemu-system-arm, instruction counting on),
+           writes the image the board rendered to OUT (default: the scene's
+           name, -BOARD.bmp) and prints its instructions per pixel and memory
+           use. --width defaults to 160; --soft-sqrt takes f32 square roots in
+           software even on the FPU board; --timeout (3600 s) bounds the run.
+  compare  renders a scene with Q16.16 and with the f32 reference (same size,
+           same samples; sizes as for render), or reads two images (.bmp or
+           .png), and prints PSNR, mean and max error, the share of pixels
+           within 1, 2 and 8 levels, and the worst row and column. --diff
+           writes the error as a heat map (.png or .bmp): black where equal,
+           brighter where worse, white from 8 levels.";
 
 /// A one-line error for the user; exit status 2.
 pub(crate) struct Fail(pub(crate) String);
@@ -60,6 +95,9 @@ fn names_a_line(msg: &str) -> bool {
 fn run(args: &[String]) -> Result<(), Fail> {
     match args.first().map(String::as_str) {
         Some("render") => cmd_render::run(&args[1..]),
+        Some("sheet") => cmd_sheet::run(&args[1..]),
+        Some("emulate") => cmd_emulate::run(&args[1..]),
+        Some("compare") => cmd_compare::run(&args[1..]),
         Some("-h") | Some("--help") | Some("help") => {
             println!("{USAGE}");
             Ok(())

@@ -17,6 +17,12 @@ pub(crate) struct RenderOpts {
     pub(crate) height: Option<u32>,
     pub(crate) samples: Option<u32>,
     pub(crate) float: bool,
+    /// `--passes DIR`: save each progressive pass there.
+    pub(crate) passes: Option<PathBuf>,
+    /// `--first-step N`: block side of the first progressive pass.
+    pub(crate) first_step: Option<u32>,
+    /// `--preview-samples N`: samples of the progressive preview (0: none).
+    pub(crate) preview_samples: Option<u32>,
 }
 
 pub(crate) fn parse_u32(flag: &str, v: Option<&String>, lo: u32, hi: u32) -> Result<u32, Fail> {
@@ -47,6 +53,11 @@ pub(crate) fn parse_opts(args: &[String]) -> Result<RenderOpts, Fail> {
             "--height" => o.height = Some(parse_u32("--height", it.next(), 1, MAX_SIDE)?),
             "--samples" => o.samples = Some(parse_u32("--samples", it.next(), 1, 65535)?),
             "--float" => o.float = true,
+            "--passes" => o.passes = Some(PathBuf::from(it.next().ok_or("--passes needs a directory")?)),
+            "--first-step" => {
+                o.first_step = Some(parse_u32("--first-step", it.next(), 1, lensray::progressive::MAX_STEP)?)
+            }
+            "--preview-samples" => o.preview_samples = Some(parse_u32("--preview-samples", it.next(), 0, 65535)?),
             s if s.starts_with('-') && s.len() > 1 => return Err(Fail(format!("unknown option \"{s}\""))),
             _ => o.positional.push(a.clone()),
         }
@@ -88,4 +99,52 @@ pub(crate) fn render_with_progress<S: Scalar + Send + Sync>(
     let img = render_image(scene, w, h, samples, &tick);
     bar.finish_and_clear();
     img
+}
+
+/// Renders progressively (`--passes DIR`), saving the display after each pass
+/// as `DIR/pass-K.png` (K from 1) as soon as it is done; returns the final image.
+pub(crate) fn render_passes_to<S: Scalar + Send + Sync>(
+    scene: &Scene<S>,
+    w: u32,
+    h: u32,
+    o: &RenderOpts,
+    dir: &std::path::Path,
+) -> Result<Image, Fail> {
+    std::fs::create_dir_all(dir).map_err(|e| Fail(format!("{}: cannot create: {e}", dir.display())))?;
+    let mut failed: Option<Fail> = None;
+    let mut save = |i: usize, pass: &lensray::progressive::Pass, img: &Image| {
+        if failed.is_some() {
+            return;
+        }
+        let path = dir.join(format!("pass-{}.png", i + 1));
+        let result = lensray_host::encode(img, lensray_host::Format::Png)
+            .map_err(Fail)
+            .and_then(|bytes| {
+                lensray_host::write_atomic(&path, &bytes)
+                    .map_err(|e| Fail(format!("{}: cannot write: {e}", path.display())))
+            });
+        match result {
+            Ok(()) => eprintln!(
+                "wrote {} ({}x{} blocks, {} samples)",
+                path.display(),
+                pass.step,
+                pass.step,
+                pass.samples
+            ),
+            Err(e) => failed = Some(e),
+        }
+    };
+    let img = lensray_host::passes::render_passes(
+        scene,
+        w,
+        h,
+        o.samples,
+        o.first_step.unwrap_or(8),
+        o.preview_samples.unwrap_or(1),
+        &mut save,
+    );
+    match failed {
+        Some(e) => Err(e),
+        None => Ok(img),
+    }
 }

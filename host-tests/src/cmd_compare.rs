@@ -1,0 +1,113 @@
+//! `lensray compare`: what fixed point costs, in numbers and as a heat map.
+//!
+//! `compare SCENE` renders the scene in Q16.16 and with the f32 reference at the
+//! same size and samples; `compare A B` compares two image files. Both print
+//! PSNR, mean and max error, the share of pixels within 1, 2 and 8 levels and
+//! the worst row and column; `--diff OUT` writes the error as a heat map.
+
+use std::path::{Path, PathBuf};
+
+use lensray::{Renderer, I16F16};
+use lensray_host::{encode, load_image, load_scene, write_atomic, Diff, Format, Image, LineErrors};
+
+use crate::opts::{image_size, parse_u32, render_with_progress, RenderOpts};
+use crate::{Fail, USAGE};
+
+/// The options of `compare`.
+struct CompareOpts {
+    render: RenderOpts,
+    diff: Option<PathBuf>,
+}
+
+fn parse(args: &[String]) -> Result<CompareOpts, Fail> {
+    let mut o = CompareOpts {
+        render: RenderOpts::default(),
+        diff: None,
+    };
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--diff" => o.diff = Some(PathBuf::from(it.next().ok_or("--diff needs a file name")?)),
+            "--width" => o.render.width = Some(parse_u32("--width", it.next(), 1, lensray_host::MAX_SIDE)?),
+            "--height" => o.render.height = Some(parse_u32("--height", it.next(), 1, lensray_host::MAX_SIDE)?),
+            "--samples" => o.render.samples = Some(parse_u32("--samples", it.next(), 1, 65535)?),
+            s if s.starts_with('-') && s.len() > 1 => return Err(Fail(format!("unknown option \"{s}\""))),
+            _ => o.render.positional.push(a.clone()),
+        }
+    }
+    Ok(o)
+}
+
+pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
+    let o = parse(args)?;
+    // Check the heat map's name before minutes of rendering, not after.
+    let diff_format = match &o.diff {
+        Some(p) => {
+            if p.is_dir() {
+                return Err(Fail(format!("{}: is a directory", p.display())));
+            }
+            Some(Format::of(p).ok_or_else(|| Fail(format!("{}: --diff must end in .bmp or .png", p.display())))?)
+        }
+        None => None,
+    };
+    let (a, b) = match o.render.positional.as_slice() {
+        [scene] => compare_scene(Path::new(scene), &o.render)?,
+        [first, second] => {
+            if o.render.width.is_some() || o.render.height.is_some() || o.render.samples.is_some() {
+                return Err(Fail(
+                    "--width, --height and --samples apply to a scene, not to two images".into(),
+                ));
+            }
+            let (a, b) = (load_image(Path::new(first))?, load_image(Path::new(second))?);
+            say(format_args!("{first} against {second}"));
+            (a, b)
+        }
+        _ => return Err(Fail(format!("compare takes one scene file or two images\n{USAGE}"))),
+    };
+    let mismatch = || {
+        Fail(format!(
+            "the images differ in size: {}x{} and {}x{}",
+            a.width, a.height, b.width, b.height
+        ))
+    };
+    let diff = Diff::of(&a, &b).ok_or_else(mismatch)?;
+    say(format_args!("{diff}"));
+    if let Some(lines) = LineErrors::of(&a, &b) {
+        say(format_args!("{lines}"));
+    }
+    if let (Some(path), Some(format)) = (&o.diff, diff_format) {
+        let heat = Diff::heat_map(&a, &b).ok_or_else(mismatch)?;
+        let bytes = encode(&heat, format)?;
+        write_atomic(path, &bytes).map_err(|e| Fail(format!("{}: cannot write: {e}", path.display())))?;
+        eprintln!(
+            "wrote {} (black: equal; dark red 1 level, up to yellow 7, white 8 or more)",
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+/// Prints a line to stdout; a closed pipe (`| head`) is not an error worth a panic.
+fn say(args: std::fmt::Arguments<'_>) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stdout().lock(), "{args}");
+}
+
+/// Renders a scene with Q16.16 and with f32: (Q16.16 image, f32 image).
+fn compare_scene(path: &Path, o: &RenderOpts) -> Result<(Image, Image), Fail> {
+    let fixed = load_scene::<I16F16>(path)?;
+    let float = load_scene::<f32>(path)?;
+    let (w, h) = image_size(o, fixed.camera.aspect_ratio)?;
+    let mut probe = Renderer::new(&fixed, w, h);
+    if let Some(n) = o.samples {
+        probe = probe.with_samples(n);
+    }
+    say(format_args!(
+        "{}: Q16.16 against f32, {w}x{h}, {} ray(s) a pixel",
+        path.display(),
+        probe.rays_per_pixel()
+    ));
+    let a = render_with_progress(&fixed, w, h, o.samples);
+    let b = render_with_progress(&float, w, h, o.samples);
+    Ok((a, b))
+}

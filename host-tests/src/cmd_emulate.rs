@@ -1,0 +1,381 @@
+//! `lensray emulate`: builds the firmware with a scene embedded, runs it under
+//! QEMU, writes the image the board rendered and says what it cost.
+//!
+//! The scene is checked on the host first, so a bad scene fails with the same
+//! `FILE:LINE: message` as `render`, before anything is built. The firmware
+//! crate is `../firmware` from this crate (or `$LENSRAY_FIRMWARE_DIR`); its
+//! build.rs reads the scene, size, samples and number type from `LENSRAY_*`
+//! variables, which this command sets.
+
+use std::collections::BTreeMap;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::time::{Duration, Instant};
+
+use embedded_graphics::pixelcolor::Rgb888;
+use lensray::{Scalar, I16F16};
+use lensray_host::{encode, load_scene, write_atomic, Format, Image};
+
+use crate::opts::{image_size, parse_opts, parse_u32};
+use crate::{Fail, USAGE};
+
+/// A board QEMU emulates: its name, Rust target, cargo features and QEMU machine arguments.
+struct Board {
+    name: &'static str,
+    target: &'static str,
+    features: &'static str,
+    qemu: &'static [&'static str],
+}
+
+const BOARDS: [Board; 2] = [
+    Board {
+        name: "microbit",
+        target: "thumbv6m-none-eabi",
+        features: "microbit",
+        qemu: &["-machine", "microbit"],
+    },
+    Board {
+        name: "mps2-an386",
+        target: "thumbv7em-none-eabihf",
+        features: "mps2-an386,hw-sqrt",
+        qemu: &["-machine", "mps2-an386", "-cpu", "cortex-m4"],
+    },
+];
+
+/// The file the firmware writes its rows to, in QEMU's working directory.
+const ROWS_FILE: &str = "lensray-rows.rgb";
+
+/// Image width without `--width`.
+const DEFAULT_WIDTH: u32 = 160;
+
+/// Longest QEMU run before it counts as hung (`--timeout`), in seconds.
+const DEFAULT_TIMEOUT: u32 = 3600;
+
+pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
+    // The options of `render`, plus --board, --timeout and --soft-sqrt.
+    let mut board = None;
+    let mut timeout = DEFAULT_TIMEOUT;
+    let mut soft_sqrt = false;
+    let mut rest = Vec::new();
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--board" => {
+                let name = it.next().ok_or("--board needs a value: microbit or mps2-an386")?;
+                let b = BOARDS
+                    .iter()
+                    .find(|b| b.name == name.as_str())
+                    .ok_or_else(|| Fail(format!("--board {name}: unknown board; use microbit or mps2-an386")))?;
+                board = Some(b);
+            }
+            "--timeout" => timeout = parse_u32("--timeout", it.next(), 1, 86_400)?,
+            "--soft-sqrt" => soft_sqrt = true,
+            _ => rest.push(a.clone()),
+        }
+    }
+    let mut o = parse_opts(&rest)?;
+    // A small panel's width by default: a microcontroller renders slowly.
+    o.width = o.width.or(Some(DEFAULT_WIDTH));
+    let [scene_path] = o.positional.as_slice() else {
+        return Err(Fail(format!("emulate takes one scene file\n{USAGE}")));
+    };
+    let board = board.ok_or_else(|| Fail(format!("emulate needs --board microbit or --board mps2-an386\n{USAGE}")))?;
+    let scene_path = Path::new(scene_path);
+
+    // The scene first: a bad one fails here, exactly as `render` reports it.
+    let aspect = if o.float {
+        load_scene::<f32>(scene_path)?.camera.aspect_ratio
+    } else {
+        load_scene::<I16F16>(scene_path)?.camera.aspect_ratio
+    };
+    let (width, height) = image_size(&o, aspect)?;
+    let out = match &o.out {
+        Some(p) => p.clone(),
+        None => {
+            let stem = scene_path.file_stem().ok_or("the scene path has no file name")?;
+            PathBuf::from(format!("{}-{}.bmp", stem.to_string_lossy(), board.name))
+        }
+    };
+    let format = Format::of(&out).ok_or_else(|| Fail(format!("{}: output must end in .bmp or .png", out.display())))?;
+    if out.is_dir() {
+        return Err(Fail(format!("{}: is a directory", out.display())));
+    }
+    let scene_abs = std::fs::canonicalize(scene_path).map_err(|e| Fail(format!("{}: {e}", scene_path.display())))?;
+    if Command::new("qemu-system-arm").arg("--version").output().is_err() {
+        return Err(Fail(
+            "qemu-system-arm is missing: install it (Debian: sudo apt-get install qemu-system-arm), \
+             or run bash scripts/test-all.sh, which does"
+                .into(),
+        ));
+    }
+
+    let work = WorkDir::new()?;
+    let build = Build {
+        board,
+        scene: &scene_abs,
+        width,
+        height,
+        samples: o.samples,
+        float: o.float,
+        soft_sqrt,
+    };
+    let elf = build.run(&work.0)?;
+
+    eprintln!("running on {} under QEMU", board.name);
+    let output = run_qemu(board, &elf, &work.0, Duration::from_secs(timeout as u64))?;
+    let report = parse_report(&output).ok_or_else(|| {
+        Fail(format!(
+            "the firmware on {} finished without its report; it said:\n{output}",
+            board.name
+        ))
+    })?;
+    if report_value::<u32>(&report, "stack_overflow")? != 0 {
+        return Err(Fail(format!(
+            "the stack on {} ran into the statics, so the image may be wrong; a smaller --width needs less. It said:\n{output}",
+            board.name
+        )));
+    }
+    let rows = std::fs::read(work.0.join(ROWS_FILE))
+        .map_err(|e| Fail(format!("the firmware's rows ({ROWS_FILE}) cannot be read: {e}")))?;
+    let img = image_from_rows(&rows, width, height)?;
+
+    for line in output.lines() {
+        println!("{line}");
+    }
+    let frame: u64 = report_value(&report, "frame")?;
+    let per_pixel: u64 = report_value(&report, "per_pixel")?;
+    let pixels = width as u64 * height as u64;
+    println!(
+        "{per_pixel} instructions per pixel on {} ({} instructions a frame of {width}x{height}; {:.2} pixels per million instructions)",
+        board.name,
+        frame,
+        pixels as f64 * 1e6 / frame.max(1) as f64
+    );
+    let bytes = encode(&img, format)?;
+    write_atomic(&out, &bytes).map_err(|e| Fail(format!("{}: cannot write: {e}", out.display())))?;
+    let kind = if o.float { f32::NAME } else { I16F16::NAME };
+    eprintln!(
+        "wrote {} ({width}x{height}, {kind}, rendered on {})",
+        out.display(),
+        board.name
+    );
+    Ok(())
+}
+
+/// A private directory for one run: the firmware's copy and QEMU's working
+/// directory (the rows file lands there). Removed when dropped.
+struct WorkDir(PathBuf);
+
+impl WorkDir {
+    fn new() -> Result<WorkDir, Fail> {
+        static N: AtomicU32 = AtomicU32::new(0);
+        let dir = std::env::temp_dir().join(format!(
+            "lensray-emulate-{}-{}",
+            std::process::id(),
+            N.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::create_dir_all(&dir).map_err(|e| Fail(format!("{}: {e}", dir.display())))?;
+        Ok(WorkDir(dir))
+    }
+}
+
+impl Drop for WorkDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// What to build the firmware with.
+struct Build<'a> {
+    board: &'a Board,
+    scene: &'a Path,
+    width: u32,
+    height: u32,
+    samples: Option<u32>,
+    float: bool,
+    soft_sqrt: bool,
+}
+
+impl Build<'_> {
+    /// Builds the firmware and copies its ELF into `dir`, under a lock: runs
+    /// of this command in parallel share one target directory.
+    fn run(&self, dir: &Path) -> Result<PathBuf, Fail> {
+        let firmware = firmware_dir()?;
+        let target_dir = firmware.join("target");
+        std::fs::create_dir_all(&target_dir).map_err(|e| Fail(format!("{}: {e}", target_dir.display())))?;
+        let lock_path = target_dir.join("lensray-emulate.lock");
+        let lock = std::fs::File::create(&lock_path).map_err(|e| Fail(format!("{}: {e}", lock_path.display())))?;
+        lock.lock()
+            .map_err(|e| Fail(format!("{}: cannot lock: {e}", lock_path.display())))?;
+
+        let features = if self.soft_sqrt {
+            self.board.features.replace(",hw-sqrt", "")
+        } else {
+            self.board.features.to_string()
+        };
+        eprintln!("building the firmware for {} ({})", self.board.name, self.board.target);
+        let mut cmd = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
+        cmd.current_dir(&firmware)
+            .args([
+                "build",
+                "--release",
+                "--target",
+                self.board.target,
+                "--features",
+                &features,
+            ])
+            .arg("--target-dir")
+            .arg(&target_dir)
+            .env("LENSRAY_SCENE", self.scene)
+            .env("LENSRAY_WIDTH", self.width.to_string())
+            .env("LENSRAY_HEIGHT", self.height.to_string())
+            .env("LENSRAY_FLOAT", if self.float { "1" } else { "0" })
+            // These would replace the firmware's own flags and targets.
+            .env_remove("RUSTFLAGS")
+            .env_remove("CARGO_ENCODED_RUSTFLAGS")
+            .env_remove("CARGO_BUILD_RUSTFLAGS")
+            .env_remove("CARGO_BUILD_TARGET")
+            .stdin(Stdio::null());
+        match self.samples {
+            Some(n) => cmd.env("LENSRAY_SAMPLES", n.to_string()),
+            None => cmd.env_remove("LENSRAY_SAMPLES"),
+        };
+        let built = cmd
+            .output()
+            .map_err(|e| Fail(format!("cannot run cargo to build the firmware: {e}")))?;
+        if !built.status.success() {
+            return Err(Fail(format!(
+                "building the firmware failed:\n{}",
+                String::from_utf8_lossy(&built.stderr).trim_end()
+            )));
+        }
+        let elf = target_dir
+            .join(self.board.target)
+            .join("release")
+            .join("lensray-firmware");
+        let copy = dir.join("lensray-firmware.elf");
+        std::fs::copy(&elf, &copy).map_err(|e| Fail(format!("{}: {e}", elf.display())))?;
+        drop(lock);
+        Ok(copy)
+    }
+}
+
+/// The firmware crate: `$LENSRAY_FIRMWARE_DIR`, else `firmware/` of this source tree.
+fn firmware_dir() -> Result<PathBuf, Fail> {
+    let dir = match std::env::var_os("LENSRAY_FIRMWARE_DIR") {
+        Some(d) => PathBuf::from(d),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../firmware"),
+    };
+    if !dir.join("Cargo.toml").is_file() {
+        return Err(Fail(format!(
+            "{}: the firmware crate is not there; set LENSRAY_FIRMWARE_DIR to lensray's firmware/ directory",
+            dir.display()
+        )));
+    }
+    Ok(dir)
+}
+
+/// Runs the ELF under QEMU in `dir` with instruction counting; its console
+/// output, or an error if it fails, exits non-zero or outlives `timeout`.
+fn run_qemu(board: &Board, elf: &Path, dir: &Path, timeout: Duration) -> Result<String, Fail> {
+    let mut child = Command::new("qemu-system-arm")
+        .args(board.qemu)
+        .args(["-nographic", "-monitor", "none", "-serial", "null"])
+        .args(["-semihosting-config", "enable=on,target=native", "-icount", "shift=0"])
+        .arg("-kernel")
+        .arg(elf)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| Fail(format!("cannot run qemu-system-arm: {e}")))?;
+    let mut stdout = child.stdout.take().ok_or("no QEMU stdout")?;
+    let mut stderr = child.stderr.take().ok_or("no QEMU stderr")?;
+    // Pipes drained on their own threads, so a chatty QEMU never blocks.
+    let out_reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        let _ = stdout.read_to_string(&mut s);
+        s
+    });
+    let err_reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        let _ = stderr.read_to_string(&mut s);
+        s
+    });
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().map_err(|e| Fail(format!("waiting for QEMU: {e}")))? {
+            break Some(status);
+        }
+        if start.elapsed() > timeout {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let out = out_reader.join().unwrap_or_default();
+    let err = err_reader.join().unwrap_or_default();
+    let said = format!("{out}{err}").trim_end().to_string();
+    match status {
+        None => Err(Fail(format!(
+            "the firmware on {} did not finish within {} s (--timeout); it said:\n{said}",
+            board.name,
+            timeout.as_secs()
+        ))),
+        Some(s) if !s.success() => {
+            // A stack overflow faults, and its fault handler faults again (a lockup).
+            let hint = if said.contains("HardFault") || said.contains("Lockup") {
+                "\n(a stack overflow ends like this; a smaller --width needs less stack)"
+            } else {
+                ""
+            };
+            Err(Fail(format!(
+                "the firmware on {} failed ({}); it said:\n{said}{hint}",
+                board.name,
+                match s.code() {
+                    Some(c) => format!("exit status {c}"),
+                    None => "killed by a signal".to_string(),
+                }
+            )))
+        }
+        Some(_) => Ok(out),
+    }
+}
+
+/// The firmware's `report key=value ...` line, as a map.
+fn parse_report(output: &str) -> Option<BTreeMap<String, String>> {
+    let line = output.lines().find_map(|l| l.strip_prefix("report "))?;
+    Some(
+        line.split_whitespace()
+            .filter_map(|kv| kv.split_once('='))
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect(),
+    )
+}
+
+fn report_value<T: std::str::FromStr>(report: &BTreeMap<String, String>, key: &str) -> Result<T, Fail> {
+    report
+        .get(key)
+        .and_then(|v| v.parse().ok())
+        .ok_or_else(|| Fail(format!("the firmware's report has no valid {key}")))
+}
+
+/// Packed RGB rows, top to bottom, as an image of the expected size.
+fn image_from_rows(rows: &[u8], width: u32, height: u32) -> Result<Image, Fail> {
+    let want = width as usize * height as usize * 3;
+    if rows.len() != want {
+        return Err(Fail(format!(
+            "the firmware sent {} bytes of rows, not {want} ({width}x{height} RGB)",
+            rows.len()
+        )));
+    }
+    Ok(Image {
+        width,
+        height,
+        pixels: rows.chunks_exact(3).map(|p| Rgb888::new(p[0], p[1], p[2])).collect(),
+    })
+}

@@ -1,0 +1,434 @@
+//! The firmware under QEMU, through `lensray emulate`: the rows each board
+//! sends are bit for bit the host's own render of the same scene and size,
+//! the instruction counter is calibrated, the microbit's 16 KiB of RAM hold the
+//! statics and the deepest stack, a panic or a HardFault ends the run with a
+//! non-zero status instead of a hang, and a run past `--timeout` is stopped.
+//!
+//! The QEMU tests need qemu-system-arm and the thumbv6m/thumbv7em targets and
+//! take a minute or two, so they are `#[ignore]`d in a plain `cargo test`;
+//! `scripts/firmware-tests.sh` (run by `scripts/test-all.sh`) installs what is
+//! missing and runs them with `--ignored`. Each board's test writes its
+//! figures to `firmware-figures-BOARD.md` in cargo's target tmp directory and
+//! prints them.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::Instant;
+
+use lensray::{Scalar, I16F16};
+use lensray_host::{load_image, load_scene, render_image, Image};
+
+const LENSRAY: &str = env!("CARGO_BIN_EXE_lensray");
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn scene(name: &str) -> PathBuf {
+    repo().join("scenes").join(name)
+}
+
+fn tmp(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join(name)
+}
+
+/// One emulated render: its options, and the results.
+struct Run {
+    board: &'static str,
+    scene: &'static str,
+    width: u32,
+    height: u32,
+    samples: Option<u32>,
+    float: bool,
+    soft_sqrt: bool,
+}
+
+/// What came back from a run.
+struct Outcome {
+    image: Image,
+    report: BTreeMap<String, String>,
+    stdout: String,
+    seconds: f64,
+}
+
+impl Outcome {
+    fn get(&self, key: &str) -> u64 {
+        self.report
+            .get(key)
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("report has no number {key}:\n{}", self.stdout))
+    }
+}
+
+fn emulate_cmd(run: &Run, out: &Path) -> Command {
+    let mut cmd = Command::new(LENSRAY);
+    cmd.arg("emulate")
+        .arg(scene(run.scene))
+        .args(["--board", run.board])
+        .args(["--width", &run.width.to_string(), "--height", &run.height.to_string()])
+        .arg("-o")
+        .arg(out)
+        .env_remove("LENSRAY_FAULT");
+    if let Some(n) = run.samples {
+        cmd.args(["--samples", &n.to_string()]);
+    }
+    if run.float {
+        cmd.arg("--float");
+    }
+    if run.soft_sqrt {
+        cmd.arg("--soft-sqrt");
+    }
+    cmd
+}
+
+fn show(o: &Output) -> String {
+    format!(
+        "status {:?}\nstdout:\n{}\nstderr:\n{}",
+        o.status.code(),
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+/// Runs `lensray emulate` and checks its image against the host's render.
+fn emulate_and_compare(run: &Run) -> Outcome {
+    let out = tmp(&format!(
+        "{}-{}-{}x{}-{}{}.bmp",
+        run.board,
+        run.scene,
+        run.width,
+        run.height,
+        if run.float { "f32" } else { "q16" },
+        if run.soft_sqrt { "-soft" } else { "" }
+    ));
+    let _ = std::fs::remove_file(&out);
+    let start = Instant::now();
+    let o = emulate_cmd(run, &out).output().expect("run lensray emulate");
+    let seconds = start.elapsed().as_secs_f64();
+    assert!(o.status.success(), "lensray emulate failed:\n{}", show(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+    let report: BTreeMap<String, String> = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("report "))
+        .unwrap_or_else(|| panic!("no report line:\n{stdout}"))
+        .split_whitespace()
+        .filter_map(|kv| kv.split_once('='))
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    let image = load_image(&out).expect("read the emulated image");
+
+    // The host's own render of the same scene at the same size, in the same number type.
+    let path = scene(run.scene);
+    let host = if run.float {
+        render_image(
+            &load_scene::<f32>(&path).unwrap(),
+            run.width,
+            run.height,
+            run.samples,
+            &|| {},
+        )
+    } else {
+        render_image(
+            &load_scene::<I16F16>(&path).unwrap(),
+            run.width,
+            run.height,
+            run.samples,
+            &|| {},
+        )
+    };
+    assert_eq!((image.width, image.height), (run.width, run.height));
+    let differing: Vec<(usize, _, _)> = image
+        .pixels
+        .iter()
+        .zip(&host.pixels)
+        .enumerate()
+        .filter(|(_, (a, b))| a != b)
+        .map(|(i, (a, b))| (i, *a, *b))
+        .collect();
+    assert!(
+        differing.is_empty(),
+        "{} of {} pixels differ from the host's render on {} ({}); first (index, board, host): {:?}",
+        differing.len(),
+        image.pixels.len(),
+        run.board,
+        run.scene,
+        &differing[..differing.len().min(5)]
+    );
+
+    let outcome = Outcome {
+        image,
+        report,
+        stdout,
+        seconds,
+    };
+    // The report describes this very run.
+    assert_eq!(outcome.report.get("board").map(String::as_str), Some(run.board));
+    assert_eq!(outcome.get("width"), run.width as u64);
+    assert_eq!(outcome.get("height"), run.height as u64);
+    let number = if run.float { f32::NAME } else { I16F16::NAME };
+    assert_eq!(outcome.report.get("number").map(String::as_str), Some(number));
+    // Instructions per pixel is the frame over the pixels, and the summary line says it.
+    let pixels = (run.width * run.height) as u64;
+    let per_pixel = outcome.get("per_pixel");
+    assert_eq!(per_pixel, (outcome.get("frame") + pixels / 2) / pixels);
+    let summary = format!("{per_pixel} instructions per pixel on {}", run.board);
+    assert!(
+        outcome.stdout.contains(&summary),
+        "no line \"{summary}\":\n{}",
+        outcome.stdout
+    );
+    // SysTick counts instructions: a loop of exactly 2,000,000 reads within one tick.
+    let cal = outcome.get("calibration") as i64;
+    assert!(
+        (cal - 2_000_000).abs() <= 63,
+        "calibration loop counted as {cal} instructions"
+    );
+    // No stack overflow into the statics, and everything fits the board's RAM.
+    assert_eq!(outcome.get("stack_overflow"), 0, "{}", outcome.stdout);
+    let used = outcome.get("static_ram") + outcome.get("peak_stack");
+    assert!(
+        used <= outcome.get("ram"),
+        "statics + stack = {used} bytes > RAM\n{}",
+        outcome.stdout
+    );
+    assert!(outcome.get("peak_stack") > 0 && outcome.get("flash") > 0);
+    outcome
+}
+
+/// A Markdown table of the runs, written beside the test's outputs and printed.
+fn record(board: &str, rows: &[(&Run, &Outcome)]) {
+    let mut md = String::from(
+        "| board | scene | size | rays/pixel | number | instructions/pixel | pixels per million instructions | frame instructions | flash | static RAM | peak stack | wall s (build + run) |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for (run, o) in rows {
+        let number = match (run.float, run.soft_sqrt) {
+            (false, _) => "Q16.16",
+            (true, false) if board == "mps2-an386" => "f32, vsqrt.f32",
+            (true, _) => "f32, libm sqrt",
+        };
+        md += &format!(
+            "| {board} | {} | {}x{} | {} | {number} | {} | {:.1} | {} | {} | {} | {} | {:.1} |\n",
+            run.scene,
+            run.width,
+            run.height,
+            o.get("rays"),
+            o.get("per_pixel"),
+            (run.width * run.height) as f64 * 1e6 / o.get("frame") as f64,
+            o.get("frame"),
+            o.get("flash"),
+            o.get("static_ram"),
+            o.get("peak_stack"),
+            o.seconds,
+        );
+    }
+    let path = tmp(&format!("firmware-figures-{board}.md"));
+    std::fs::write(&path, &md).expect("write the figures");
+    println!("{md}(also in {})", path.display());
+}
+
+const PROGRAM1: &str = "paper-program1.scene";
+const PINHOLE: &str = "pinhole-shapes.scene";
+
+#[test]
+#[ignore = "needs qemu-system-arm and thumbv6m-none-eabi; run by scripts/firmware-tests.sh"]
+fn microbit_renders_bit_for_bit_in_16k_of_ram() {
+    let runs = [
+        Run {
+            board: "microbit",
+            scene: PROGRAM1,
+            width: 160,
+            height: 120,
+            samples: Some(4),
+            float: false,
+            soft_sqrt: false,
+        },
+        Run {
+            board: "microbit",
+            scene: PINHOLE,
+            width: 160,
+            height: 120,
+            samples: None,
+            float: false,
+            soft_sqrt: false,
+        },
+        // f32 in software (no FPU): the same image as the host's f32 render.
+        Run {
+            board: "microbit",
+            scene: PROGRAM1,
+            width: 160,
+            height: 120,
+            samples: Some(4),
+            float: true,
+            soft_sqrt: false,
+        },
+    ];
+    let outcomes: Vec<Outcome> = runs.iter().map(emulate_and_compare).collect();
+    for o in &outcomes {
+        // The micro:bit's own 16 KiB, statics and stack together.
+        assert_eq!(o.get("ram"), 16 * 1024);
+        assert!(o.get("flash") <= 256 * 1024);
+    }
+    // Program 1 at 4 rays per pixel against one ray per pixel of the pinhole scene.
+    assert_eq!(outcomes[0].get("rays"), 4);
+    assert_eq!(outcomes[1].get("rays"), 1);
+    record("microbit", &runs.iter().zip(&outcomes).collect::<Vec<_>>());
+}
+
+#[test]
+#[ignore = "needs qemu-system-arm and thumbv7em-none-eabihf; run by scripts/firmware-tests.sh"]
+fn mps2_an386_renders_bit_for_bit_in_q16_and_f32() {
+    let run = |scene, samples, float, soft_sqrt| Run {
+        board: "mps2-an386",
+        scene,
+        width: 160,
+        height: 120,
+        samples,
+        float,
+        soft_sqrt,
+    };
+    let runs = [
+        run(PROGRAM1, Some(4), false, false),
+        run(PINHOLE, None, false, false),
+        run(PROGRAM1, Some(4), true, false),
+        run(PROGRAM1, Some(4), true, true),
+    ];
+    let outcomes: Vec<Outcome> = runs.iter().map(emulate_and_compare).collect();
+    // The FPU's square root is in use (not libm's, whose image is the same):
+    // the frame takes fewer instructions with it.
+    assert_eq!(
+        outcomes[2].report.get("f32_sqrt").map(String::as_str),
+        Some("vsqrt.f32")
+    );
+    assert_eq!(outcomes[3].report.get("f32_sqrt").map(String::as_str), Some("libm"));
+    assert!(
+        outcomes[2].get("frame") < outcomes[3].get("frame"),
+        "vsqrt.f32 {} vs libm {} instructions",
+        outcomes[2].get("frame"),
+        outcomes[3].get("frame")
+    );
+    assert_eq!(outcomes[2].image, outcomes[3].image);
+    record("mps2-an386", &runs.iter().zip(&outcomes).collect::<Vec<_>>());
+}
+
+/// `lensray emulate` with a deliberate failure built in (`LENSRAY_FAULT`).
+fn emulate_fault(board: &str, fault: &str) -> Output {
+    let run = Run {
+        board: if board == "microbit" { "microbit" } else { "mps2-an386" },
+        scene: PINHOLE,
+        width: 8,
+        height: 6,
+        samples: None,
+        float: false,
+        soft_sqrt: false,
+    };
+    let out = tmp(&format!("fault-{board}-{fault}.bmp"));
+    let _ = std::fs::remove_file(&out);
+    let o = emulate_cmd(&run, &out)
+        .env("LENSRAY_FAULT", fault)
+        .args(["--timeout", "120"])
+        .output()
+        .expect("run lensray emulate");
+    assert!(!out.exists(), "an image was written for a failed run");
+    o
+}
+
+#[test]
+#[ignore = "needs qemu-system-arm and both thumb targets; run by scripts/firmware-tests.sh"]
+fn a_panic_or_a_hardfault_exits_non_zero_instead_of_hanging() {
+    for (board, fault, status, says) in [
+        (
+            "microbit",
+            "panic",
+            "exit status 101",
+            "failing on purpose (LENSRAY_FAULT=panic)",
+        ),
+        ("microbit", "hardfault", "exit status 3", "HardFault at pc"),
+        ("mps2-an386", "hardfault", "exit status 3", "HardFault at pc"),
+    ] {
+        let o = emulate_fault(board, fault);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{board} {fault}:\n{}", show(&o));
+        assert!(
+            err.contains(status) && err.contains(says),
+            "{board} {fault}:\n{}",
+            show(&o)
+        );
+    }
+}
+
+#[test]
+#[ignore = "needs qemu-system-arm and thumbv6m-none-eabi; run by scripts/firmware-tests.sh"]
+fn a_run_past_its_timeout_is_stopped() {
+    // Program 1 with its own 70 rays a pixel: tens of seconds of QEMU, stopped after 1.
+    let run = Run {
+        board: "microbit",
+        scene: PROGRAM1,
+        width: 160,
+        height: 120,
+        samples: None,
+        float: false,
+        soft_sqrt: false,
+    };
+    let out = tmp("timeout.bmp");
+    let _ = std::fs::remove_file(&out);
+    let o = emulate_cmd(&run, &out).args(["--timeout", "1"]).output().unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", show(&o));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("did not finish within 1 s"),
+        "{}",
+        show(&o)
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_bad_scene_fails_like_render_before_any_build() {
+    let dir = tmp("emulate-bad-scene");
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.scene");
+    std::fs::write(&bad, "width 10\nfocal_length 9\nobject sphere\n").unwrap();
+    let out = dir.join("bad.bmp");
+    let render = Command::new(LENSRAY)
+        .arg("render")
+        .arg(&bad)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    // No firmware crate where it is looked for: a build attempt would fail differently.
+    let emulate = Command::new(LENSRAY)
+        .arg("emulate")
+        .arg(&bad)
+        .args(["--board", "microbit", "-o"])
+        .arg(&out)
+        .env("LENSRAY_FIRMWARE_DIR", dir.join("no-firmware-here"))
+        .output()
+        .unwrap();
+    assert_eq!(emulate.status.code(), Some(2), "{}", show(&emulate));
+    let (r, e) = (
+        String::from_utf8_lossy(&render.stderr),
+        String::from_utf8_lossy(&emulate.stderr),
+    );
+    assert!(
+        e.starts_with(&format!("lensray: {}:2: ", bad.display())),
+        "{}",
+        show(&emulate)
+    );
+    assert_eq!(r, e, "render and emulate report the bad scene differently");
+    assert!(!out.exists());
+
+    // Unknown boards and missing boards are refused too, also before any build.
+    for args in [&["--board", "esp32"][..], &[][..]] {
+        let o = Command::new(LENSRAY)
+            .arg("emulate")
+            .arg(scene(PINHOLE))
+            .args(args)
+            .env("LENSRAY_FIRMWARE_DIR", dir.join("no-firmware-here"))
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{}", show(&o));
+        assert!(String::from_utf8_lossy(&o.stderr).contains("--board"), "{}", show(&o));
+    }
+}

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# The firmware's checks, run by scripts/test-all.sh (or alone):
+#   bash scripts/firmware-tests.sh
+# Installs what is missing (thumb targets, qemu-system-arm, a size tool), then:
+# format and lint of the firmware crates (outside the main workspace, so the
+# workspace's clippy does not see them), the Raspberry Pi Pico firmware (built,
+# not run), the QEMU tests (both boards, bit for bit against the host's render,
+# instruction counts, RAM, faults) and the memory sizes.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+
+step() { printf '\n==> %s\n' "$*"; }
+
+# The build-time settings of the firmware come from these; start clean.
+unset LENSRAY_SCENE LENSRAY_WIDTH LENSRAY_HEIGHT LENSRAY_SAMPLES LENSRAY_FLOAT LENSRAY_FAULT LENSRAY_FIRMWARE_DIR
+
+step "firmware: tools"
+installed=$(rustup target list --installed)
+for t in thumbv6m-none-eabi thumbv7em-none-eabihf; do
+  if ! grep -qx "$t" <<<"$installed"; then rustup target add "$t"; fi
+done
+as_root_apt() {
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+    apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$@" >/dev/null
+  else
+    return 1
+  fi
+}
+if ! command -v qemu-system-arm >/dev/null 2>&1; then
+  as_root_apt qemu-system-arm || {
+    echo "qemu-system-arm is missing: install it (Debian: sudo apt-get install qemu-system-arm) and run again" >&2
+    exit 1
+  }
+fi
+size_tool=""
+for s in arm-none-eabi-size llvm-size; do
+  if command -v "$s" >/dev/null 2>&1; then size_tool=$s; break; fi
+done
+if [ -z "$size_tool" ]; then
+  if as_root_apt binutils-arm-none-eabi; then
+    size_tool=arm-none-eabi-size
+  else
+    rustup component add llvm-tools
+    size_tool="$(rustc --print sysroot)/lib/rustlib/$(rustc -vV | sed -n 's/^host: //p')/bin/llvm-size"
+  fi
+fi
+qemu-system-arm --version | head -1
+echo "size tool: $size_tool"
+
+cd "$root/firmware"
+step "firmware: format and lint (microbit, mps2-an386, pico)"
+cargo fmt --all --check
+cargo clippy --release --features microbit --target thumbv6m-none-eabi -- -D warnings
+cargo clippy --release --features mps2-an386,hw-sqrt --target thumbv7em-none-eabihf -- -D warnings
+cargo clippy --release -p lensray-pico --target thumbv6m-none-eabi -- -D warnings
+
+step "firmware: Raspberry Pi Pico with an ST7789 panel (built, not run)"
+cargo build --release -p lensray-pico --target thumbv6m-none-eabi
+"$size_tool" target/thumbv6m-none-eabi/release/lensray-pico
+
+step "firmware: under QEMU on both boards, bit for bit against the host"
+cd "$root"
+start=$(date +%s)
+cargo test -p lensray-host --test firmware -- --ignored --nocapture
+echo "QEMU tests took $(( $(date +%s) - start )) s (builds included)"
+
+step "firmware: memory of the default build (Program 1, 160x120, 4 rays a pixel)"
+cd "$root/firmware"
+for board in "microbit thumbv6m-none-eabi microbit" "mps2-an386 thumbv7em-none-eabihf mps2-an386,hw-sqrt"; do
+  set -- $board
+  LENSRAY_SAMPLES=4 cargo build -q --release --features "$3" --target "$2"
+  echo "$1 (text + data = flash; data + bss = static RAM; the stack is measured by the tests above):"
+  "$size_tool" "target/$2/release/lensray-firmware"
+done
