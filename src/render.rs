@@ -183,6 +183,6 @@ where
 }
 
 /// How many coordinates from `start` up fit in an i32: `i32::MAX - start + 1`, capped.
-fn addressable(start: i32) -> u32 {
+pub(crate) fn addressable(start: i32) -> u32 {
     u32::try_from(i32::MAX as i64 - start as i64 + 1).unwrap_or(u32::MAX)
 }

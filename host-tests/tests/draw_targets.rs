@@ -153,3 +153,37 @@ fn renderer_arguments_at_their_extremes() {
         }
     }
 }
+
+#[test]
+fn progressive_passes_placed_anywhere_and_any_step() {
+    use lensray::progressive::{render_pass, Pass, Schedule};
+    let scene = pinhole::<I16F16>();
+    let renderer = Renderer::new(&scene, 8, 6);
+    let (max, min) = (i32::MAX, i32::MIN);
+    for (x, y) in [(0, 0), (min, min), (max - 3, max - 2), (max, max)] {
+        for pass in Schedule::new(4, 1, 2) {
+            // A fresh canvas per pass: later passes repaint earlier blocks by design.
+            let mut canvas = Canvas::at(Point::new(x, y), 8, 6);
+            let Ok(()) = render_pass(&renderer, &mut canvas, &pass);
+            assert!(
+                canvas.fault.is_none(),
+                "pass {pass:?} at ({x}, {y}): {:?}",
+                canvas.fault
+            );
+        }
+    }
+    // A hand-made pass may hold any step.
+    for step in [0, 3, 1 << 31, u32::MAX] {
+        for skip_coarser in [false, true] {
+            let pass = Pass {
+                step,
+                skip_coarser,
+                samples: 2,
+            };
+            let mut canvas = Canvas::new(8, 6);
+            let Ok(()) = render_pass(&renderer, &mut canvas, &pass);
+            assert!(canvas.fault.is_none(), "{pass:?}: {:?}", canvas.fault);
+            let _ = pass.computes(u32::MAX, 0);
+        }
+    }
+}
