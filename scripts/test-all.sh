@@ -2,8 +2,8 @@
 # lensray's one test command: installs what is missing, then runs every check.
 #   bash scripts/test-all.sh
 # Steps: rustup targets and components, Debian's qemu-system-arm, format and
-# lint, every host test, the no_std library for two Cortex-M targets, and the
-# firmware under QEMU.
+# lint, every host test, a minute of fuzzing, the no_std library for two
+# Cortex-M targets, and the firmware under QEMU.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -36,7 +36,10 @@ cargo clippy --workspace --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc -p lensray --no-deps
 
 step "host tests"
-cargo test --workspace
+cargo test --workspace -- --skip fuzz_parser_and_renderer
+
+step "fuzz: parser and renderer together, about a minute (LENSRAY_FUZZ_SECS)"
+cargo test -p lensray-host --test fuzz fuzz_parser_and_renderer -- --nocapture
 
 step "no_std library for Cortex-M0 and Cortex-M4F"
 for t in $targets; do

@@ -17,6 +17,10 @@
 //!   types and dependent only on the pixel.
 //! * Scenes in the paper's plain-text format ([`Scene::parse`]); bad input gives
 //!   a [`ParseError`] naming the line, never a panic.
+//! * No entry point panics, whatever the input, scene or target size: the
+//!   parser, [`render()`], [`render_with`] and [`Renderer`] document
+//!   `# Panics: Never`, and the host tests fuzz them and sweep target sizes
+//!   (README, "Robustness").
 //!
 //! ## Rendering into a display
 //!

@@ -405,6 +405,10 @@ impl<'a> Statement<'a> {
 
 /// Parses the format's decimal numbers: optional sign, digits, optional
 /// fraction (`-80`, `0.5`, `.5`, `1.`); no exponent, `nan` or `inf`.
+///
+/// # Panics
+///
+/// Never.
 pub fn parse_decimal(s: &str) -> Option<f64> {
     let b = s.as_bytes();
     let body = match b.first() {

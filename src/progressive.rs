@@ -60,7 +60,7 @@
 //! # Ok::<(), lensray::ParseError>(())
 //! ```
 
-use crate::render::Renderer;
+use crate::render::{addressable, Renderer};
 use crate::scalar::Scalar;
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Point, Size};
@@ -92,7 +92,9 @@ impl Pass {
         if !col.is_multiple_of(s) || !row.is_multiple_of(s) {
             return false;
         }
-        !(self.skip_coarser && col.is_multiple_of(2 * s) && row.is_multiple_of(2 * s))
+        // Saturating: a hand-made pass may hold any step.
+        let s2 = s.saturating_mul(2);
+        !(self.skip_coarser && col.is_multiple_of(s2) && row.is_multiple_of(s2))
     }
 
     /// How many pixels of a `cols` × `rows` image this pass computes.
@@ -233,29 +235,30 @@ where
     D: DrawTarget,
     D::Color: From<Rgb888>,
 {
-    let (cols, rows) = (renderer.camera().cols(), renderer.camera().rows());
+    let origin = target.bounding_box().top_left;
+    // Only pixels with an i32 address, as render_with: no coordinate overflows.
+    let cols = renderer.camera().cols().min(addressable(origin.x));
+    let rows = renderer.camera().rows().min(addressable(origin.y));
     let step = pass.step.max(1);
     if !row.is_multiple_of(step) || row >= rows {
         return Ok(());
     }
-    let origin = target.bounding_box().top_left;
     let height = step.min(rows - row);
-    let skip_in_row = pass.skip_coarser && row.is_multiple_of(2 * step);
+    let skip_in_row = pass.skip_coarser && row.is_multiple_of(step.saturating_mul(2));
+    // No overflow below: row < addressable(origin.y) and col < addressable(origin.x).
+    let at = |col: u32| Point::new(origin.x + col as i32, origin.y + row as i32);
     if step == 1 && !skip_in_row {
         // Single pixels, all new: stream the row as a plain render does.
-        let area = Rectangle::new(origin + Point::new(0, row as i32), Size::new(cols, 1));
+        let area = Rectangle::new(at(0), Size::new(cols, 1));
         return target.fill_contiguous(&area, (0..cols).map(|col| D::Color::from(renderer.pixel(col, row))));
     }
     for col in (0..cols).step_by(step as usize) {
-        if skip_in_row && col.is_multiple_of(2 * step) {
+        if skip_in_row && col.is_multiple_of(step.saturating_mul(2)) {
             continue;
         }
         let colour = D::Color::from(renderer.pixel(col, row));
         let size = Size::new(step.min(cols - col), height);
-        target.fill_solid(
-            &Rectangle::new(origin + Point::new(col as i32, row as i32), size),
-            colour,
-        )?;
+        target.fill_solid(&Rectangle::new(at(col), size), colour)?;
     }
     Ok(())
 }

@@ -68,6 +68,12 @@ impl LevelStats {
 
 impl<'a, S: Scalar> Renderer<'a, S> {
     /// A renderer for `cols` × `rows` pixels with the scene's own sample count.
+    ///
+    /// Each side is clamped to 1..=[`MAX_IMAGE_SIDE`](crate::camera::MAX_IMAGE_SIDE).
+    ///
+    /// # Panics
+    ///
+    /// Never: any scene [`Scene::parse`] accepts and any size.
     pub fn new(scene: &'a Scene<S>, cols: u32, rows: u32) -> Self {
         Renderer {
             scene,
@@ -78,6 +84,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     }
 
     /// Overrides the lens samples per pixel (clamped to 1..=65535).
+    ///
+    /// # Panics
+    ///
+    /// Never.
     pub fn with_samples(mut self, samples: u32) -> Self {
         self.samples = samples.clamp(1, 65535);
         self
@@ -111,6 +121,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     }
 
     /// The mean colour of pixel (`col`, `row`), unclamped.
+    ///
+    /// # Panics
+    ///
+    /// Never, for any `col` and `row` (beyond the image they stand for its last
+    /// column and row, as the camera clamps them): all arithmetic saturates.
     pub fn pixel_colour(&self, col: u32, row: u32) -> Vec3<S> {
         self.pixel_rays(col, row).0
     }
@@ -156,6 +171,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     }
 
     /// Pixel (`col`, `row`) as 8-bit RGB: each channel clamped and `round(255 v)`.
+    ///
+    /// # Panics
+    ///
+    /// Never, as [`Renderer::pixel_colour`].
     pub fn pixel(&self, col: u32, row: u32) -> Rgb888 {
         let c = self.pixel_colour(col, row);
         Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8())
@@ -163,6 +182,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
 
     /// Fills `out` with row `row`, from column 0 (`out.len()` pixels at most
     /// the image width; extra entries are left untouched).
+    ///
+    /// # Panics
+    ///
+    /// Never, for any `row` and any length of `out`.
     pub fn render_row(&self, row: u32, out: &mut [Rgb888]) {
         for (col, px) in out.iter_mut().take(self.camera.cols() as usize).enumerate() {
             *px = self.pixel(col as u32, row);
@@ -175,7 +198,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
 /// The image is the target's bounding box (its size, from its top-left
 /// corner); the target's colour type converts
 /// from [`Rgb888`] (Rgb565 and others through embedded-graphics' own
-/// conversions). An empty target draws nothing.
+/// conversions). An empty target draws nothing. A side longer than
+/// [`MAX_IMAGE_SIDE`](crate::camera::MAX_IMAGE_SIDE) gets an image of that
+/// many pixels, from the top-left corner; the rest of the target is untouched.
 ///
 /// # Errors
 ///
@@ -200,7 +225,9 @@ where
 
 /// Renders with a prepared [`Renderer`] (e.g. with a sample override) into
 /// `target`, one `fill_contiguous` per row: the renderer's image size, placed
-/// at the top-left corner of the target's bounding box.
+/// at the top-left corner of the target's bounding box. Pixels that would lie
+/// beyond `i32::MAX` in x or y (a target at the very edge of the plane) are
+/// not drawn.
 ///
 /// # Errors
 ///
@@ -216,11 +243,20 @@ where
     D::Color: From<Rgb888>,
 {
     let origin = target.bounding_box().top_left;
-    let cols = renderer.camera().cols();
-    for row in 0..renderer.camera().rows() {
-        let top_left = origin + Point::new(0, row as i32);
+    // Only pixels with an i32 address are drawn: a target near the edge of the
+    // plane gets the part of the image that fits (`origin + row` would overflow).
+    let cols = renderer.camera().cols().min(addressable(origin.x));
+    let rows = renderer.camera().rows().min(addressable(origin.y));
+    for row in 0..rows {
+        // No overflow: row < addressable(origin.y).
+        let top_left = Point::new(origin.x, origin.y + row as i32);
         let area = Rectangle::new(top_left, Size::new(cols, 1));
         target.fill_contiguous(&area, (0..cols).map(|col| D::Color::from(renderer.pixel(col, row))))?;
     }
     Ok(())
+}
+
+/// How many coordinates from `start` up fit in an i32: `i32::MAX - start + 1`, capped.
+pub(crate) fn addressable(start: i32) -> u32 {
+    u32::try_from(i32::MAX as i64 - start as i64 + 1).unwrap_or(u32::MAX)
 }

@@ -475,6 +475,10 @@ impl<S: Scalar> Scene<S> {
     }
 
     /// The colour seen along the ray `o + t d` (unit `d`), unclamped.
+    ///
+    /// # Panics
+    ///
+    /// Never: every operation saturates.
     pub fn trace(&self, o: Vec3<S>, d: Vec3<S>) -> Vec3<S> {
         self.trace_dir(o, d, S::dir_from(d.to_array()))
     }

@@ -14,6 +14,12 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
         return Err(Fail(format!("render takes one scene file\n{USAGE}")));
     };
     let scene_path = Path::new(scene_path);
+    if scene_path.is_dir() {
+        return Err(Fail(format!(
+            "{}: is a directory, not a scene file",
+            scene_path.display()
+        )));
+    }
     let out = match &o.out {
         Some(p) => p.clone(),
         None => {
@@ -25,6 +31,7 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     if out.is_dir() {
         return Err(Fail(format!("{}: is a directory", out.display())));
     }
+    check_writable(&out)?;
     let (img, kind) = if o.float {
         let mut scene = load_scene::<f32>(scene_path)?;
         apply_to_scene(&o, &mut scene);
@@ -46,4 +53,32 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     write_atomic(&out, &bytes).map_err(|e| Fail(format!("{}: cannot write: {e}", out.display())))?;
     eprintln!("wrote {} ({}x{}, {kind})", out.display(), img.width, img.height);
     Ok(())
+}
+
+/// Refuses an output that cannot be written before any rendering: its folder
+/// must exist and take a new file (tried with a probe file, removed at once).
+fn check_writable(out: &Path) -> Result<(), Fail> {
+    let dir = match out.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(Fail(format!(
+            "{}: cannot write: {} is not a directory",
+            out.display(),
+            dir.display()
+        )));
+    }
+    let name = out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let probe = dir.join(format!(".{name}.{}.probe", std::process::id()));
+    match std::fs::OpenOptions::new().write(true).create_new(true).open(&probe) {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) => Err(Fail(format!("{}: cannot write: {e}", out.display()))),
+    }
 }

@@ -11,6 +11,7 @@ use lensray::{Renderer, Scalar, Scene};
 use rayon::prelude::*;
 
 pub mod canvas;
+pub mod fuzz;
 pub mod passes;
 pub mod sheet;
 

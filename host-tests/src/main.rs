@@ -10,8 +10,9 @@
 //! ```
 //!
 //! Exit status: 0 on success, 2 on any error (bad scene, bad arguments,
-//! unwritable output). Errors are one line on stderr; a scene error reads
-//! `SCENE:LINE: message`.
+//! unwritable output). Errors are one line on stderr: a scene error reads
+//! `SCENE:LINE: message` (as compilers print, for editors to jump to), any
+//! other `lensray: message`.
 
 use std::process::ExitCode;
 
@@ -73,10 +74,24 @@ fn main() -> ExitCode {
     match run(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(Fail(msg)) => {
-            eprintln!("lensray: {msg}");
+            if names_a_line(&msg) {
+                eprintln!("{msg}");
+            } else {
+                eprintln!("lensray: {msg}");
+            }
             ExitCode::from(2)
         }
     }
+}
+
+/// Whether a message starts `FILE:LINE: `: printed without the program's
+/// name, so that editors and IDEs can jump to the line.
+fn names_a_line(msg: &str) -> bool {
+    let Some((head, _)) = msg.split_once(": ") else {
+        return false;
+    };
+    head.rsplit_once(':')
+        .is_some_and(|(file, line)| !file.is_empty() && !line.is_empty() && line.bytes().all(|b| b.is_ascii_digit()))
 }
 
 fn run(args: &[String]) -> Result<(), Fail> {

@@ -29,8 +29,17 @@ pub(crate) struct RenderOpts {
 
 pub(crate) fn parse_u32(flag: &str, v: Option<&String>, lo: u32, hi: u32) -> Result<u32, Fail> {
     let v = v.ok_or_else(|| Fail(format!("{flag} needs a value")))?;
-    let n: u64 = v.parse().map_err(|_| Fail(format!("{flag} {v}: not a whole number")))?;
-    if n < lo as u64 || n > hi as u64 {
+    let digits = v.strip_prefix(['-', '+']).unwrap_or(v);
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return Err(Fail(format!("{flag} {v}: not a whole number")));
+    }
+    // Any whole number out of range, however long, gets the range message.
+    let n: u64 = if v.starts_with('-') {
+        0
+    } else {
+        digits.parse().unwrap_or(u64::MAX)
+    };
+    if (v.starts_with('-') && digits.bytes().any(|b| b != b'0')) || n < lo as u64 || n > hi as u64 {
         return Err(Fail(format!("{flag} {v}: must be between {lo} and {hi}")));
     }
     Ok(n as u32)

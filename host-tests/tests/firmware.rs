@@ -411,11 +411,7 @@ fn a_bad_scene_fails_like_render_before_any_build() {
         String::from_utf8_lossy(&render.stderr),
         String::from_utf8_lossy(&emulate.stderr),
     );
-    assert!(
-        e.starts_with(&format!("lensray: {}:2: ", bad.display())),
-        "{}",
-        show(&emulate)
-    );
+    assert!(e.starts_with(&format!("{}:2: ", bad.display())), "{}", show(&emulate));
     assert_eq!(r, e, "render and emulate report the bad scene differently");
     assert!(!out.exists());
 
