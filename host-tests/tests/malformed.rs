@@ -114,7 +114,7 @@ fn expectations() -> Vec<(&'static str, Expect)> {
             "background-above-one.scene",
             Error(1, range("background", "2", "must be between 0 and 1")),
         ),
-        ("shadows-maybe.scene", Error(1, NotASwitch(w("maybe")))),
+        ("shadows-maybe.scene", Error(1, NotASwitch("shadows", w("maybe")))),
         ("zero-scale.scene", Error(2, range("scale", "0", "must not be 0"))),
         // The object's line: its transformations as a whole are at fault.
         ("squeezed-flat.scene", Error(1, ObjectOutOfRange)),
