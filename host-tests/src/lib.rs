@@ -431,23 +431,7 @@ pub mod measure {
     /// high for crisp edges, lower as they blur. Compare it between renders of
     /// the same scene and box only.
     pub fn gradient_energy(img: &Image, b: PixelBox) -> f64 {
-        let (x0, y0) = (b.x0.max(1), b.y0.max(1));
-        let (x1, y1) = (b.x1.min(img.width - 1), b.y1.min(img.height - 1));
-        let mut sum = 0.0;
-        let mut n = 0u64;
-        for y in y0..y1 {
-            for x in x0..x1 {
-                let gx = (luma(img, x + 1, y) - luma(img, x - 1, y)) / 2.0;
-                let gy = (luma(img, x, y + 1) - luma(img, x, y - 1)) / 2.0;
-                sum += gx * gx + gy * gy;
-                n += 1;
-            }
-        }
-        if n == 0 {
-            0.0
-        } else {
-            sum / n as f64
-        }
+        gradient_energy_where(img, b, |_, _| true)
     }
 
     /// Mean gradient energy over the pixels of a box for which `pred` holds
