@@ -286,6 +286,27 @@ fn fixed_log2(raw: i32) -> i64 {
     ((msb as i64 - 16) << 16) + frac
 }
 
+/// `x^n` for `x = b / 2^16` in (0, 1) and a whole `n >= 1`, as Q16.16 bits:
+/// powers by squaring in Q0.32, rounded once more at the end (a few
+/// multiplies where the logarithm and exponential take some forty).
+fn pow_whole(b: u32, mut n: u32) -> i32 {
+    // Q0.32 products, rounded to nearest; below 2^-32 the result rounds to 0 anyway.
+    let mul = |a: u32, c: u32| ((mul_u32(a, c) + (1 << 31)) >> 32) as u32;
+    let mut base = b << 16;
+    let mut acc: Option<u32> = None;
+    loop {
+        if n & 1 != 0 {
+            acc = Some(acc.map_or(base, |a| mul(a, base)));
+        }
+        n >>= 1;
+        if n == 0 {
+            break;
+        }
+        base = mul(base, base);
+    }
+    acc.map_or(0, |a| ((a as u64 + (1 << 15)) >> 16) as i32)
+}
+
 /// `2^(-2^-j)` for j = 1..=16 in Q2.30, rounded: the factors of `2^-f` for
 /// each set bit of a 16-bit fraction f.
 const EXP2_NEG: [u32; 16] = [
@@ -422,6 +443,9 @@ impl Scalar for I16F16 {
         }
         if b >= 1 << 16 {
             return I16F16::ONE;
+        }
+        if e.to_bits() & 0xFFFF == 0 {
+            return I16F16::from_bits(pow_whole(b as u32, (e.to_bits() >> 16) as u32));
         }
         // x^e = 2^(e·log2 x); log2 x < 0 here.
         let l = -fixed_log2(b);
@@ -925,5 +949,37 @@ mod dir_tests {
                 "{p:?} {lens:?} {k:?}"
             );
         }
+    }
+}
+
+#[cfg(test)]
+mod pow_tests {
+    use super::*;
+
+    /// Whole Phong powers by squaring: within half a unit (plus the Q0.32
+    /// roundings) of the exact power, and never further from it than the
+    /// logarithm-and-exponential path they replace.
+    #[test]
+    fn whole_powers_are_nearly_exact() {
+        for n in [1u32, 2, 3, 5, 7, 10, 16, 51, 128, 1000] {
+            for b in (1..65536).step_by(7).chain([1, 2, 255, 32768, 65535]) {
+                let x = I16F16::from_bits(b);
+                let e = I16F16::from_num(n);
+                let got = x.powf(e).to_bits();
+                let exact = (b as f64 / 65536.0).powi(n as i32) * 65536.0;
+                let err = (got as f64 - exact).abs();
+                assert!(err <= 0.5 + 1e-3, "{b}^{n}: {got} vs {exact}");
+                let l = -fixed_log2(b);
+                let old = fixed_exp2_neg(mul_i64(l, e.to_bits() as i64) >> 16);
+                assert!(
+                    err <= (old as f64 - exact).abs() + 1e-9,
+                    "{b}^{n}: {got}, was {old}, exact {exact}"
+                );
+            }
+        }
+        // The ends: 0^n = 0, 1^n = 1, x^0 = 1.
+        assert_eq!(I16F16::ZERO.powf(I16F16::from_num(5)), I16F16::ZERO);
+        assert_eq!(I16F16::ONE.powf(I16F16::from_num(5)), I16F16::ONE);
+        assert_eq!(I16F16::from_bits(30000).powf(I16F16::ZERO), I16F16::ONE);
     }
 }
