@@ -2,8 +2,11 @@
 //! 240×320 ST7789 SPI panel, driven through `mipidsi`: the paper's Program 1
 //! (`scenes/paper-program1.scene`, embedded in flash) is rendered in Q16.16
 //! straight to the panel, one scanline at a time, in landscape (320×240).
-//! No frame buffer: each row is computed while mipidsi streams it out, one
-//! `fill_contiguous` per row.
+//! No frame buffer. Progressive display: a preview of 8×8 blocks at one ray
+//! each appears within about a second (1/(64 × 8) of the frame's rays), then
+//! the library's `progressive::Schedule` refines it in place, block size by
+//! block size, down to single pixels at full samples: the last pass leaves
+//! exactly what a plain `render_with` would draw.
 //!
 //! Wiring (Pico pin number, GPIO → panel):
 //!
@@ -36,7 +39,8 @@
 use embedded_hal::delay::DelayNs;
 use embedded_hal::digital::OutputPin;
 use embedded_hal_bus::spi::ExclusiveDevice;
-use lensray::{render_with, Renderer, Scene, I16F16};
+use lensray::progressive::{render_pass, Schedule};
+use lensray::{Renderer, Scene, I16F16};
 use mipidsi::interface::SpiInterface;
 use mipidsi::models::ST7789;
 use mipidsi::options::{ColorInversion, Orientation, Rotation};
@@ -119,8 +123,11 @@ fn main() -> ! {
     // The panel in landscape: 320×240, the scene's 1.33 aspect ratio.
     let renderer = Renderer::new(&scene, 320, 240).with_samples(SAMPLES);
     let _ = led.set_high();
-    if render_with(&renderer, &mut display).is_err() {
-        blink(&mut led, &mut timer)
+    // Coarse pass first, then refinements in place (see the module docs).
+    for pass in Schedule::new(8, 1, renderer.rays_per_pixel()) {
+        if render_pass(&renderer, &mut display, &pass).is_err() {
+            blink(&mut led, &mut timer)
+        }
     }
     let _ = led.set_low();
     loop {
