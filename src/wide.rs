@@ -212,23 +212,16 @@ mod tests {
     }
 
     /// The 64-bit digit-by-digit square root the fast one replaces.
+    /// An independent oracle: a float estimate corrected with exact u128 squares.
     fn isqrt_reference(n: u64) -> u64 {
-        if n == 0 {
-            return 0;
+        let mut r = (n as f64).sqrt() as u64;
+        while (r as u128) * (r as u128) > n as u128 {
+            r -= 1;
         }
-        let mut rem = n;
-        let mut root = 0u64;
-        let mut bit = 1u64 << ((63 - n.leading_zeros()) & !1);
-        while bit != 0 {
-            if rem >= root + bit {
-                rem -= root + bit;
-                root = (root >> 1) + bit;
-            } else {
-                root >>= 1;
-            }
-            bit >>= 2;
+        while ((r + 1) as u128) * ((r + 1) as u128) <= n as u128 {
+            r += 1;
         }
-        root
+        r
     }
 
     #[test]
