@@ -15,6 +15,7 @@
 //! itself is deterministic.
 
 use crate::aperture::Aperture;
+use crate::film::FilmMapDesc;
 use crate::lfsr::Lfsr;
 use crate::scalar::Scalar;
 use crate::scene::CameraParams;
@@ -30,15 +31,13 @@ pub const MAX_IMAGE_SIDE: u32 = 8192;
 pub struct Camera<S: Scalar> {
     /// Maps `(2c + 1, 2r + 1, 0)` to the film point `(u_c, v_r, −N)`.
     film: Affine<S>,
-    /// Camera frame → world: columns u, v, n and translation E.
-    to_world: Affine<S>,
-    /// The lens centre E in world space, as `to_world` maps the origin: the
-    /// chief rays' common origin, computed once.
+    /// Pixel → world direction of its rays, exactly (see [`crate::film`]).
+    map: S::FilmMap,
+    /// The lens centre E in world space: the chief rays' common origin.
     eye: Vec3<S>,
-    /// Lens radius a.
-    lens_radius: S,
-    /// a / m: how far a lens sample tilts the direction on the film's scale.
-    lens_tilt: S,
+    /// a u and a v: where the lens sample's x and y move a ray's origin, world space.
+    lens_u: Vec3<S>,
+    lens_v: Vec3<S>,
     /// Pinhole (a = 0): one ray per pixel.
     pinhole: bool,
     /// Shape of the lens opening the samples are drawn on.
@@ -54,7 +53,7 @@ pub struct Ray<S: Scalar> {
     pub origin: Vec3<S>,
     /// Unit direction.
     pub dir: Vec3<S>,
-    /// The same direction, unnormalised and held more precisely (for the plane).
+    /// The same unit direction held more precisely (for the plane).
     pub precise: S::Dir,
 }
 
@@ -101,11 +100,6 @@ impl<S: Scalar> Camera<S> {
         let rows = rows.clamp(1, MAX_IMAGE_SIDE);
         let [u, v, n] = basis(params).unwrap_or([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
         let e = params.lens_position;
-        let to_world = Mat34([
-            [u[0], v[0], n[0], e[0]],
-            [u[1], v[1], n[1], e[1]],
-            [u[2], v[2], n[2], e[2]],
-        ]);
         // Pixel pitch p, film half-width W and half-height H.
         let p = params.width / cols as f64;
         let half_w = params.width / 2.0;
@@ -121,12 +115,24 @@ impl<S: Scalar> Camera<S> {
         let pinhole = params.radius.is_nan() || params.radius <= 0.0;
         // m = z_f / N = f / (N − f); the tilt is a / m.
         let lens_tilt = if pinhole { 0.0 } else { params.radius * (big_n - f) / f };
+        let radius = if pinhole { 0.0 } else { params.radius };
+        // World direction of p_film = (p/2 · i − W, H − p/2 · j, −N), less the
+        // lens tilt: i (p/2) u + j (−p/2) v + (−W u + H v − N n) − s_x (a/m) u − s_y (a/m) v.
+        let desc = FilmMapDesc {
+            a: u.map(|x| x * p / 2.0),
+            b: v.map(|x| -x * p / 2.0),
+            c: [0, 1, 2].map(|k| -half_w * u[k] + half_h * v[k] - big_n * n[k]),
+            k_u: u.map(|x| x * lens_tilt),
+            k_v: v.map(|x| x * lens_tilt),
+            i_max: (2 * cols - 1) as f64,
+            j_max: (2 * rows - 1) as f64,
+        };
         Camera {
             film: Affine::from_mat(&film),
-            to_world: Affine::from_mat(&to_world),
-            eye: Affine::<S>::from_mat(&to_world).point(Vec3::ZERO),
-            lens_radius: S::from_f64(if pinhole { 0.0 } else { params.radius }),
-            lens_tilt: S::from_f64(lens_tilt),
+            map: S::film_map(&desc),
+            eye: Vec3::from_f64(e),
+            lens_u: Vec3::from_f64(u.map(|x| x * radius)),
+            lens_v: Vec3::from_f64(v.map(|x| x * radius)),
             pinhole,
             aperture: Aperture::regular(params.aperture_blades, params.aperture_rotation),
             cols,
@@ -170,78 +176,63 @@ impl<S: Scalar> Camera<S> {
     /// `(2c + 1, 2r + 1, 0)`: what the film transform maps to a film point.
     #[inline]
     fn pixel_index(col: u32, row: u32) -> Vec3<S> {
-        let c = S::from_i32(2 * col.min(MAX_IMAGE_SIDE) as i32 + 1);
-        let r = S::from_i32(2 * row.min(MAX_IMAGE_SIDE) as i32 + 1);
-        Vec3::new(c, r, S::ZERO)
+        let (i, j) = Self::doubled(col, row);
+        Vec3::new(S::from_i32(i), S::from_i32(j), S::ZERO)
     }
 
-    /// The film point of pixel (`col`, `row`), rounded and held precisely:
+    /// `(2c + 1, 2r + 1)`: the pixel centre in half-pixel units.
+    #[inline]
+    fn doubled(col: u32, row: u32) -> (i32, i32) {
+        (
+            2 * col.min(MAX_IMAGE_SIDE) as i32 + 1,
+            2 * row.min(MAX_IMAGE_SIDE) as i32 + 1,
+        )
+    }
+
+    /// The world direction of pixel (`col`, `row`)'s chief ray, exactly:
     /// what [`Camera::chief_ray_from`] and [`Camera::lens_ray_from`] take.
     #[inline]
     pub fn film_point(&self, col: u32, row: u32) -> FilmPoint<S> {
-        let i = Self::pixel_index(col, row);
+        let (i, j) = Self::doubled(col, row);
         FilmPoint {
-            p: self.film.point(i),
-            precise: self.film.point_dir(i),
+            film: S::film_dir(&self.map, i, j),
         }
     }
 
-    /// The chief ray of a film point: from the lens centre E along
-    /// `−N n + u_c u + v_r v`, normalised.
-    #[inline]
-    pub fn chief_ray(&self, p_film: Vec3<S>) -> Ray<S> {
-        self.chief_ray_from(&FilmPoint {
-            p: p_film,
-            precise: S::dir_from(p_film.to_array()),
-        })
-    }
-
-    /// [`Camera::chief_ray`] of a [`FilmPoint`], with its precise direction.
+    /// The chief ray of a pixel: from the lens centre E through its film point
+    /// (`−N n + u_c u + v_r v`), normalised.
     #[inline]
     pub fn chief_ray_from(&self, f: &FilmPoint<S>) -> Ray<S> {
+        // The lens centre adds nothing: sample (0, 0).
+        let (precise, dir) = S::film_ray_dir(&self.map, &f.film, (0, 0));
         Ray {
             origin: self.eye,
-            dir: self.to_world.vector(f.p).normalize(),
-            precise: self.to_world.dir(f.precise),
+            dir: Vec3::from_array(dir),
+            precise,
         }
     }
 
     /// The ray from the lens point `lens = (s_x, s_y)` (Q1.15, on the unit disk)
-    /// towards this film point's point in focus.
-    #[inline]
-    pub fn lens_ray(&self, p_film: Vec3<S>, lens: (i32, i32)) -> Ray<S> {
-        let f = FilmPoint {
-            p: p_film,
-            precise: S::dir_from(p_film.to_array()),
-        };
-        self.lens_ray_from(&f, lens)
-    }
-
-    /// [`Camera::lens_ray`] of a [`FilmPoint`], with its precise direction.
+    /// towards the pixel's point in focus.
     #[inline]
     pub fn lens_ray_from(&self, f: &FilmPoint<S>, lens: (i32, i32)) -> Ray<S> {
         let (sx, sy) = (S::from_q15(lens.0), S::from_q15(lens.1));
-        // Lens point on the disk of radius a, camera frame.
-        let p_lens = Vec3::new(sx.mul(self.lens_radius), sy.mul(self.lens_radius), S::ZERO);
-        // p_focus − p_lens, divided by m: p_film − p_lens / m.
-        let d_cam = f.p - Vec3::new(sx.mul(self.lens_tilt), sy.mul(self.lens_tilt), S::ZERO);
+        // p_focus − p_lens, divided by m: p_film − p_lens / m, in world space.
+        let (precise, dir) = S::film_ray_dir(&self.map, &f.film, lens);
         Ray {
-            origin: self.to_world.point(p_lens),
-            dir: self.to_world.vector(d_cam).normalize(),
-            precise: self.to_world.dir(S::dir_minus_lens(f.precise, lens, self.lens_tilt)),
+            // The lens point E + s_x a u + s_y a v.
+            origin: self.eye + self.lens_u * sx + self.lens_v * sy,
+            dir: Vec3::from_array(dir),
+            precise,
         }
     }
 }
 
-/// A pixel's film point in the camera frame: rounded to `S`, and held
-/// precisely (exact products, see [`Scalar::Dir`]) for the rays' precise
-/// directions.
+/// A pixel's chief-ray direction in world space, exact (see [`crate::film`]):
+/// computed once per pixel and shared by its lens samples.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct FilmPoint<S: Scalar> {
-    /// The film point, rounded.
-    pub p: Vec3<S>,
-    /// The film point, precise.
-    pub precise: S::Dir,
+    film: S::Film,
 }
 
 #[cfg(test)]
@@ -254,7 +245,7 @@ mod tests {
         let params = CameraParams::default();
         // An odd size has a pixel whose centre is the film's centre.
         let cam = Camera::<I16F16>::new(&params, 641, 481);
-        let ray = cam.chief_ray(cam.p_film(320, 240));
+        let ray = cam.chief_ray_from(&cam.film_point(320, 240));
         let d = ray.dir.to_f64();
         assert!(
             d[0].abs() < 1e-4 && d[1].abs() < 1e-4 && (d[2] + 1.0).abs() < 1e-4,
@@ -274,7 +265,7 @@ mod tests {
         assert!((f[1] - (p * 240.0 - p / 2.0)).abs() < 1e-6);
         assert_eq!(f[2], -8.0);
         // The picture is upright: row 0 looks up, column 0 looks left.
-        let d = cam.chief_ray(cam.p_film(0, 0)).dir.to_f64();
+        let d = cam.chief_ray_from(&cam.film_point(0, 0)).dir.to_f64();
         assert!(d[0] < 0.0 && d[1] > 0.0);
     }
 
@@ -287,8 +278,8 @@ mod tests {
         };
         assert_eq!(params.focus_depth(), 8.0);
         let cam = Camera::<I16F16>::new(&params, 160, 120);
-        let film = cam.p_film(30, 100);
-        let chief = cam.chief_ray(film);
+        let film = cam.film_point(30, 100);
+        let chief = cam.chief_ray_from(&film);
         // Where the chief ray reaches z = −8.
         let at_focus = |r: Ray<I16F16>| {
             let (o, d) = (r.origin.to_f64(), r.dir.to_f64());
@@ -297,7 +288,7 @@ mod tests {
         };
         let target = at_focus(chief);
         for lens in [(32767, 0), (-20000, 20000), (0, -32000), (1000, 2000)] {
-            let r = cam.lens_ray(film, lens);
+            let r = cam.lens_ray_from(&film, lens);
             let o = r.origin.to_f64();
             assert!((o[0] * o[0] + o[1] * o[1]).sqrt() <= 0.4 + 1e-4);
             let hit = at_focus(r);
@@ -307,7 +298,7 @@ mod tests {
             );
         }
         // And they do not meet at another depth: at z = −4 they spread out.
-        let r = cam.lens_ray(film, (32767, 0));
+        let r = cam.lens_ray_from(&film, (32767, 0));
         let (o, d) = (r.origin.to_f64(), r.dir.to_f64());
         let t = (-4.0 - o[2]) / d[2];
         let (c, cd) = (chief.origin.to_f64(), chief.dir.to_f64());

@@ -55,8 +55,11 @@
 pub mod aperture;
 pub mod autofocus;
 pub mod camera;
+pub mod cull;
+pub mod film;
 pub mod lfsr;
 pub mod parse;
+mod plane;
 pub mod progressive;
 pub mod render;
 pub mod scalar;

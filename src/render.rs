@@ -5,6 +5,7 @@
 //! `fill_contiguous` call, computing pixels as the target consumes them.
 
 use crate::camera::Camera;
+use crate::cull::LensCones;
 use crate::lfsr::Lfsr;
 use crate::scalar::Scalar;
 use crate::scene::Scene;
@@ -22,6 +23,8 @@ use embedded_graphics_core::primitives::Rectangle;
 pub struct Renderer<'a, S: Scalar> {
     scene: &'a Scene<S>,
     camera: Camera<S>,
+    /// The objects each lens ray can reach, precomputed for this camera.
+    cones: LensCones<S>,
     samples: u32,
     adaptive: bool,
 }
@@ -78,6 +81,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         Renderer {
             scene,
             camera: Camera::new(&scene.camera, cols, rows),
+            cones: LensCones::new(scene, scene.camera.lens_position, scene.camera.radius),
             samples: scene.camera.samples.max(1),
             adaptive: scene.camera.adaptive,
         }
@@ -143,7 +147,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
             let ray = self.camera.chief_ray_from(&film);
-            return (self.scene.trace_dir(ray.origin, ray.dir, ray.precise), 1);
+            return (self.scene.trace_camera_ray(&ray, &self.cones), 1);
         }
         // The pixel's own register: samples independent of row order and threads.
         let mut lfsr = Lfsr::for_pixel(col, row, 0);
@@ -152,7 +156,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut n = 0;
         while n < self.samples {
             let ray = self.camera.lens_ray_from(&film, self.camera.lens_sample(&mut lfsr));
-            let c = self.scene.trace_dir(ray.origin, ray.dir, ray.precise);
+            let c = self.scene.trace_camera_ray(&ray, &self.cones);
             acc = [
                 S::acc_add(acc[0], c.x),
                 S::acc_add(acc[1], c.y),

@@ -18,6 +18,7 @@
 //! * Set-up conversions (`from_f64`) round to nearest; they run once per scene.
 //! * The Q16.16 per-ray operations use only integer instructions.
 
+use crate::film::{FilmMapDesc, FixedFilmMap, FloatFilmMap};
 use crate::wide::{isqrt_u64, mul_i32, mul_i64, mul_u32, mul_u64};
 use fixed::types::I16F16;
 
@@ -105,20 +106,28 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     type Dir: Copy + core::fmt::Debug + PartialEq + Send + Sync;
     /// A vector as a precise direction, exactly.
     fn dir_from(v: [Self; 3]) -> Self::Dir;
-    /// The rows of a matrix applied to a precise direction, from the exact
-    /// product (no rounding but the final 31-bit mantissas).
-    fn rows_apply_dir(rows: &[Self::Row; 3], d: Self::Dir) -> Self::Dir;
-    /// The rows of a matrix applied to a point, with translation, exactly, as
-    /// a precise direction (the camera's film point).
-    fn rows_apply_point_dir(rows: &[Self::Row; 3], v: [Self; 3]) -> Self::Dir;
-    /// `p - (sx · k, sy · k, 0)` exactly, for a lens sample `(sx, sy)` in Q1.15
-    /// (the camera's direction from a lens point towards its point in focus).
-    fn dir_minus_lens(p: Self::Dir, lens: (i32, i32), k: Self) -> Self::Dir;
-    /// Where the ray `lo + s · ld` meets the plane z = 0, for `s > 0`, with
-    /// `world` the same ray's direction in world space (so that distances are
-    /// world distances): `(t, x, y)`, t the world distance, (x, y, 0) the
-    /// object-space point. `None` when the ray is parallel to the plane.
-    fn plane_cross(lo: [Self; 3], ld: Self::Dir, world: Self::Dir) -> Option<(Self, Self, Self)>;
+    /// A camera's exact map from pixels to its rays' directions (see [`crate::film`]).
+    type FilmMap: Copy + core::fmt::Debug + Send + Sync;
+    /// A pixel's chief direction as the film map gives it, before the lens.
+    type Film: Copy + core::fmt::Debug + PartialEq + Send + Sync;
+    /// Rounds a film map's exact parts. Set-up only.
+    fn film_map(desc: &FilmMapDesc) -> Self::FilmMap;
+    /// The chief direction `D(i, j)` of the doubled pixel centre (i, j).
+    fn film_dir(map: &Self::FilmMap, i: i32, j: i32) -> Self::Film;
+    /// The unit direction along the film direction tilted by a lens sample
+    /// (Q1.15; (0, 0) for the chief ray): precise, marked unit, and rounded.
+    fn film_ray_dir(map: &Self::FilmMap, film: &Self::Film, lens: (i32, i32)) -> (Self::Dir, [Self; 3]);
+    /// Where the world ray `o + t d` meets the object-space plane z = 0 of an
+    /// object whose world → object matrix has these rows, for `t_min < t < t_max`:
+    /// `(t, x, y)`, t the world distance in units of |d| (a unit direction
+    /// marked so needs no square root) and (x, y, 0) the object-space point.
+    fn plane_hit(
+        rows: &[Self::Row; 3],
+        o: [Self; 3],
+        d: Self::Dir,
+        t_min: Self,
+        t_max: Self,
+    ) -> Option<(Self, Self, Self)>;
 
     /// The empty accumulator.
     fn acc_zero() -> Self::Acc;
@@ -154,16 +163,19 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
 /// translation at scale `2^(shift + 16)`, so `row · v` is an exact i64 sum.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct FixedRow {
-    m: [i32; 3],
-    t: i64,
-    shift: u32,
+    pub(crate) m: [i32; 3],
+    pub(crate) t: i64,
+    pub(crate) shift: u32,
 }
 
 /// Q16.16's precise direction: `m[i] · 2^e`, with `|m[i]| < 2^31`.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct FixedDir {
-    m: [i64; 3],
-    e: i32,
+    pub(crate) m: [i64; 3],
+    pub(crate) e: i32,
+    /// Whether `|m|` is 2^-e within 2^-30 relative (the camera's rays): the
+    /// plane then needs no square root for world distances.
+    pub(crate) unit: bool,
 }
 
 impl FixedDir {
@@ -178,7 +190,11 @@ impl FixedDir {
                 (((x >> (k - 1)) + 1) >> 1) as i64
             }
         });
-        FixedDir { m, e: e + k as i32 }
+        FixedDir {
+            m,
+            e: e + k as i32,
+            unit: false,
+        }
     }
 
     /// Normalises exact i64 components at scale `2^e` to 31-bit mantissas.
@@ -191,7 +207,11 @@ impl FixedDir {
         } else {
             w.map(|x| ((x >> (k - 1)) + 1) >> 1)
         };
-        FixedDir { m, e: e + k as i32 }
+        FixedDir {
+            m,
+            e: e + k as i32,
+            unit: false,
+        }
     }
 
     /// `rows · v` (+ the translation if `affine`) exactly, for `v` in Q16.16
@@ -228,21 +248,9 @@ impl FixedDir {
 
 /// `n / d` rounded to nearest (ties away from zero), for `d != 0`, in i64.
 #[inline]
-fn div_round_i64(n: i64, d: i64) -> i64 {
+pub(crate) fn div_round_i64(n: i64, d: i64) -> i64 {
     let (nu, du) = (n.unsigned_abs(), d.unsigned_abs());
     let q = (nu / du + u64::from(nu % du >= du - du / 2)) as i64;
-    if (n < 0) != (d < 0) {
-        -q
-    } else {
-        q
-    }
-}
-
-/// `n / d` rounded to nearest (ties away from zero), for `d != 0`.
-#[inline]
-fn div_round(n: i128, d: i128) -> i128 {
-    let (nu, du) = (n.unsigned_abs(), d.unsigned_abs());
-    let q = ((nu + du / 2) / du) as i128;
     if (n < 0) != (d < 0) {
         -q
     } else {
@@ -262,9 +270,39 @@ fn sat32(x: i64) -> i32 {
     }
 }
 
+/// The Q16.16 product of raw values `a · b / 2^16`, rounded to nearest
+/// (ties up) and saturated, through the exact 64-bit product.
+#[inline]
+fn mul_q16_wide(a: i32, b: i32) -> i32 {
+    sat32(shr_round(mul_i32(a, b), 16))
+}
+
+/// [`mul_q16_wide`] in 32-bit arithmetic when both magnitudes are at most
+/// 2^16 (values up to 1: colours, unit vectors): the magnitudes' product then
+/// fits a u32 unless both are 1. `None` otherwise.
+#[inline(always)]
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+fn mul_q16_small(a: i32, b: i32) -> Option<i32> {
+    let (ua, ub) = (a.unsigned_abs(), b.unsigned_abs());
+    if ua > 1 << 16 || ub > 1 << 16 {
+        return None;
+    }
+    // Times exactly 1 (white light, a unit axis): the other factor.
+    if ua == 1 << 16 {
+        return Some(if a < 0 { -b } else { b });
+    }
+    let m = ua * ub;
+    // floor(p / 2^16 + 1/2) for p = ±m: ties go up, towards +∞, for both signs.
+    Some(if (a ^ b) < 0 {
+        -(((m + 0x7FFF) >> 16) as i32)
+    } else {
+        ((m + 0x8000) >> 16) as i32
+    })
+}
+
 /// Rounds `x / 2^s` to nearest (ties up), for `0 < s < 63`.
 #[inline]
-fn shr_round(x: i64, s: u32) -> i64 {
+pub(crate) fn shr_round(x: i64, s: u32) -> i64 {
     (x >> s) + ((x >> (s - 1)) & 1)
 }
 
@@ -394,8 +432,13 @@ impl Scalar for I16F16 {
     }
     #[inline]
     fn mul(self, o: Self) -> Self {
-        let p = mul_i32(self.to_bits(), o.to_bits());
-        I16F16::from_bits(sat32(shr_round(p, 16)))
+        let (a, b) = (self.to_bits(), o.to_bits());
+        // Colours, unit vectors and their dot products stay below 1: one MULS on the M0.
+        #[cfg(lensray_v6m)]
+        if let Some(q) = mul_q16_small(a, b) {
+            return I16F16::from_bits(q);
+        }
+        I16F16::from_bits(mul_q16_wide(a, b))
     }
     #[inline]
     fn div(self, o: Self) -> Self {
@@ -599,93 +642,30 @@ impl Scalar for I16F16 {
         FixedDir {
             m: v.map(|x| x.to_bits() as i64),
             e: -16,
+            unit: false,
         }
     }
-    fn rows_apply_dir(rows: &[FixedRow; 3], d: FixedDir) -> FixedDir {
-        FixedDir::exact_rows(rows, d.m, false, d.e)
+    type FilmMap = FixedFilmMap;
+    type Film = [i64; 3];
+    fn film_map(desc: &FilmMapDesc) -> FixedFilmMap {
+        FixedFilmMap::new(desc)
     }
-    fn rows_apply_point_dir(rows: &[FixedRow; 3], v: [Self; 3]) -> FixedDir {
-        // The translation is at the products' scale 2^-(shift + 16).
-        FixedDir::exact_rows(rows, v.map(|x| x.to_bits() as i64), true, -16)
+    #[inline]
+    fn film_dir(map: &FixedFilmMap, i: i32, j: i32) -> [i64; 3] {
+        map.film(i, j)
     }
-    fn dir_minus_lens(p: FixedDir, lens: (i32, i32), k: Self) -> FixedDir {
-        // The lens term is exact at 2^-31 (Q1.15 times Q16.16); p at 2^e.
-        let common = p.e.min(-31);
-        let (sp, sl) = ((p.e - common).min(90) as u32, (-31 - common) as u32);
-        // In i64 where every shifted term stays below 2^62 (the usual case:
-        // i128 arithmetic is slow on a microcontroller); the same values either way.
-        let lens_terms = [mul_i32(lens.0, k.to_bits()), mul_i32(lens.1, k.to_bits())];
-        let below = |x: i64, s: u32| s <= 62 && x.unsigned_abs() >> (62 - s) == 0;
-        if p.m.iter().all(|&x| below(x, sp)) && lens_terms.iter().all(|&x| below(x, sl)) {
-            return FixedDir::from_i64(
-                [
-                    (p.m[0] << sp) - (lens_terms[0] << sl),
-                    (p.m[1] << sp) - (lens_terms[1] << sl),
-                    p.m[2] << sp,
-                ],
-                common,
-            );
-        }
-        let kb = k.to_bits() as i128;
-        let w = [
-            ((p.m[0] as i128) << sp) - ((lens.0 as i128 * kb) << sl),
-            ((p.m[1] as i128) << sp) - ((lens.1 as i128 * kb) << sl),
-            (p.m[2] as i128) << sp,
-        ];
-        FixedDir::from_wide(w, common)
+    #[inline]
+    fn film_ray_dir(map: &FixedFilmMap, film: &[i64; 3], lens: (i32, i32)) -> (FixedDir, [Self; 3]) {
+        map.ray_dir(film, lens)
     }
-    fn plane_cross(lo: [Self; 3], ld: FixedDir, world: FixedDir) -> Option<(Self, Self, Self)> {
-        let dz = ld.m[2];
-        if dz == 0 {
-            return None;
-        }
-        let oz = lo[2].to_bits() as i64;
-        // s = -oz / dz (object units of ld); t = s · |world| = -oz · l / dz · 2^(e_w - e_l).
-        // |oz| <= 2^31 and l < 2^32: the product fits an i64 with a bit to spare.
-        // |world| from mantissas cut to 21 bits (relative 2^-21 is plenty for
-        // t, and the square root's cost grows with the width).
-        let mut world = world;
-        let cut = (64
-            - world
-                .m
-                .iter()
-                .map(|x| x.unsigned_abs())
-                .max()
-                .unwrap_or(0)
-                .leading_zeros())
-        .saturating_sub(21);
-        if cut > 0 {
-            world.m = world.m.map(|x| ((x >> (cut - 1)) + 1) >> 1);
-            world.e += cut as i32;
-        }
-        let num = mul_i64(-oz, world.length() as i64);
-        let shift = world.e - ld.e;
-        let t = if (0..=62).contains(&shift) && num.unsigned_abs() >> (62 - shift) == 0 {
-            div_round_i64(num << shift, dz)
-        } else if (-62..0).contains(&shift) && dz.unsigned_abs() >> (62 + shift) == 0 {
-            div_round_i64(num, dz << -shift)
-        } else if shift > 0 {
-            // Farther than any Q16.16 distance (or exactly on the plane).
-            if num == 0 {
-                0
-            } else {
-                i64::MAX * num.signum()
-            }
-        } else {
-            div_round(num as i128, (dz as i128) << (-shift).min(90)) as i64
-        };
-        if t <= 0 {
-            return None;
-        }
-        // x = ox - ld.x · oz / ld.z: the mantissas' ratio needs no exponent;
-        // each product is below 2^62.
-        let x = lo[0].to_bits() as i64 - div_round_i64(mul_i64(ld.m[0], oz), dz);
-        let y = lo[1].to_bits() as i64 - div_round_i64(mul_i64(ld.m[1], oz), dz);
-        Some((
-            I16F16::from_bits(sat32(t)),
-            I16F16::from_bits(sat32(x)),
-            I16F16::from_bits(sat32(y)),
-        ))
+    fn plane_hit(
+        rows: &[FixedRow; 3],
+        o: [Self; 3],
+        d: FixedDir,
+        t_min: Self,
+        t_max: Self,
+    ) -> Option<(Self, Self, Self)> {
+        crate::plane::plane_hit(rows, o, d, t_min, t_max)
     }
     #[inline]
     fn acc_zero() -> i64 {
@@ -861,28 +841,39 @@ impl Scalar for f32 {
     fn dir_from(v: [Self; 3]) -> [f32; 3] {
         v
     }
-    fn rows_apply_dir(rows: &[[f32; 4]; 3], d: [f32; 3]) -> [f32; 3] {
-        rows.map(|r| Self::row_apply(&r, d, false))
+    type FilmMap = FloatFilmMap;
+    type Film = [f32; 3];
+    fn film_map(desc: &FilmMapDesc) -> FloatFilmMap {
+        FloatFilmMap::new(desc)
     }
-    fn rows_apply_point_dir(rows: &[[f32; 4]; 3], v: [Self; 3]) -> [f32; 3] {
-        rows.map(|r| Self::row_apply(&r, v, true))
+    #[inline]
+    fn film_dir(map: &FloatFilmMap, i: i32, j: i32) -> [f32; 3] {
+        map.film(i, j)
     }
-    fn dir_minus_lens(p: [f32; 3], lens: (i32, i32), k: Self) -> [f32; 3] {
-        [
-            p[0] - Self::from_q15(lens.0) * k,
-            p[1] - Self::from_q15(lens.1) * k,
-            p[2],
-        ]
+    #[inline]
+    fn film_ray_dir(map: &FloatFilmMap, film: &[f32; 3], lens: (i32, i32)) -> ([f32; 3], [Self; 3]) {
+        let u = map.ray_dir(film, lens);
+        (u, u)
     }
-    fn plane_cross(lo: [Self; 3], ld: [f32; 3], world: [f32; 3]) -> Option<(Self, Self, Self)> {
+    fn plane_hit(
+        rows: &[[f32; 4]; 3],
+        o: [Self; 3],
+        d: [f32; 3],
+        t_min: Self,
+        t_max: Self,
+    ) -> Option<(Self, Self, Self)> {
+        let ld = rows.map(|r| Self::row_apply(&r, d, false));
         if ld[2] == 0.0 {
             return None;
         }
+        let lo = rows.map(|r| Self::row_apply(&r, o, true));
+        // s in units of ld, t in world units.
         let s = -lo[2] / ld[2];
-        if s <= 0.0 {
+        let t = s * Self::length3(d);
+        if !(t > t_min && t < t_max) {
             return None;
         }
-        Some((s * Self::length3(world), lo[0] + ld[0] * s, lo[1] + ld[1] * s))
+        Some((t, lo[0] + ld[0] * s, lo[1] + ld[1] * s))
     }
     #[inline]
     fn acc_zero() -> f64 {
@@ -909,46 +900,63 @@ impl Scalar for f32 {
 }
 
 #[cfg(test)]
-mod dir_tests {
+mod mul_tests {
     use super::*;
 
-    /// The all-i128 form of `dir_minus_lens`, which the i64 short cut must equal.
-    fn dir_minus_lens_wide(p: FixedDir, lens: (i32, i32), k: I16F16) -> FixedDir {
-        let common = p.e.min(-31);
-        let (sp, sl) = ((p.e - common).min(90) as u32, (-31 - common) as u32);
-        let kb = k.to_bits() as i128;
-        let w = [
-            ((p.m[0] as i128) << sp) - ((lens.0 as i128 * kb) << sl),
-            ((p.m[1] as i128) << sp) - ((lens.1 as i128 * kb) << sl),
-            (p.m[2] as i128) << sp,
-        ];
-        FixedDir::from_wide(w, common)
-    }
-
+    /// The M0's 32-bit product of small values equals the exact 64-bit one.
     #[test]
-    fn lens_direction_in_i64_equals_i128() {
-        let mut s = 0x9E37_79B9_7F4A_7C15u64;
+    fn small_products_equal_wide_ones() {
+        let edges = [
+            0,
+            1,
+            2,
+            0x7FFF,
+            0x8000,
+            0x8001,
+            0xFFFF,
+            0x1_0000,
+            0x1_0001,
+            0x2_0000,
+            i32::MAX,
+        ];
+        let mut s = 0x2545_F491_4F6C_DD1Du64;
         let mut next = move || {
             s ^= s << 13;
             s ^= s >> 7;
             s ^= s << 17;
             s
         };
-        for _ in 0..100_000 {
-            let bits = (next() % 32) as u32;
-            let m = [0, 1, 2].map(|_| (next() as i64) >> (63 - bits));
-            let p = FixedDir {
-                m,
-                e: -60 + (next() % 60) as i32,
-            };
-            let lens = ((next() as i32) >> 16, (next() as i32) >> 16);
-            let k = I16F16::from_bits((next() as i32) >> (next() % 31));
-            assert_eq!(
-                <I16F16 as Scalar>::dir_minus_lens(p, lens, k),
-                dir_minus_lens_wide(p, lens, k),
-                "{p:?} {lens:?} {k:?}"
-            );
+        let mut small = 0;
+        let values = edges
+            .iter()
+            .flat_map(|&e| [e, -e])
+            .chain((0..200_000).map(|_| (next() as i32) >> (next() % 32)))
+            .collect::<Vec<i32>>();
+        for (i, &a) in values.iter().enumerate() {
+            for &b in values[i..].iter().take(40).chain(&edges) {
+                if let Some(q) = mul_q16_small(a, b) {
+                    small += 1;
+                    assert_eq!(q, mul_q16_wide(a, b), "{a} * {b}");
+                } else {
+                    assert!(a.unsigned_abs() > 0x10000 || b.unsigned_abs() > 0x10000, "{a} * {b}");
+                }
+            }
         }
+        // Ties round up for both signs: -0.5 ulp goes to 0, +0.5 ulp to 1.
+        assert_eq!(mul_q16_small(-0x8000, 1), Some(0));
+        assert_eq!(mul_q16_small(0x8000, 1), Some(1));
+        assert_eq!(mul_q16_small(-0x8001, 1), Some(-1));
+        // Exactly 1 times anything up to 1, either way round and with signs.
+        for (a, b) in [
+            (0x10000, 0x10000),
+            (-0x10000, 0x10000),
+            (0x10000, -0x8000),
+            (-0x10000, -0xFFFF),
+            (0x1234, -0x10000),
+        ] {
+            assert_eq!(mul_q16_small(a, b), Some(mul_q16_wide(a, b)), "{a} * {b}");
+        }
+        assert!(small > 100_000, "the small path was taken {small} times");
     }
 }
 

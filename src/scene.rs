@@ -5,6 +5,8 @@
 //! which stay exact (`f64`) until the image size is known (see
 //! [`crate::camera::Camera::new`]).
 
+use crate::camera::Ray;
+use crate::cull::LensCones;
 use crate::scalar::Scalar;
 use crate::shape::{LocalHit, Shape};
 use crate::transform::{Affine, Mat34};
@@ -297,11 +299,7 @@ impl<S: Scalar> Object<S> {
         let Some((center, radius)) = self.bound else {
             // Unbounded plane: from the ray's own origin, with the precise
             // direction (a grazing hit 100 away moves by 100² times its error).
-            let lo = self.to_object.point(o);
-            let (t, x, y) = S::plane_cross(lo.to_array(), self.to_object.dir(precise), precise)?;
-            if t <= t_min || t >= t_max {
-                return None;
-            }
+            let (t, x, y) = self.to_object.plane_hit(o, precise, t_min, t_max)?;
             let local = LocalHit {
                 t,
                 p: Vec3::new(x, y, S::ZERO),
@@ -456,8 +454,26 @@ impl<S: Scalar> Scene<S> {
 
     /// As [`Scene::closest_hit`], with the ray's direction also held precisely.
     pub fn closest_hit_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, t_min: S) -> Option<(usize, Hit<S>)> {
+        self.closest_hit_culled(o, d, precise, t_min, None)
+    }
+
+    /// As [`Scene::closest_hit_dir`], skipping the objects a ray from the
+    /// lens cannot reach where `cones` is given.
+    fn closest_hit_culled(
+        &self,
+        o: Vec3<S>,
+        d: Vec3<S>,
+        precise: S::Dir,
+        t_min: S,
+        cones: Option<&LensCones<S>>,
+    ) -> Option<(usize, Hit<S>)> {
         let mut best: Option<(usize, Hit<S>)> = None;
         for (i, obj) in self.objects.iter().enumerate() {
+            if let Some(c) = cones {
+                if !c.may_reach(i, d) {
+                    continue;
+                }
+            }
             let t_max = best.map_or(S::MAX, |(_, h)| h.t);
             if let Some(h) = obj.intersect_dir(o, d, precise, t_min, t_max) {
                 best = Some((i, h));
@@ -486,7 +502,18 @@ impl<S: Scalar> Scene<S> {
     /// As [`Scene::trace`], with the ray's direction also held precisely
     /// (any length): the camera's rays, see [`crate::camera::Ray`].
     pub fn trace_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir) -> Vec3<S> {
-        let Some((i, hit)) = self.closest_hit_dir(o, d, precise, S::EPSILON) else {
+        self.trace_culled(o, d, precise, None)
+    }
+
+    /// The colour seen along a camera ray (which leaves the lens: see
+    /// [`LensCones`]), unclamped: [`Scene::trace_dir`] with the objects out
+    /// of the ray's reach skipped.
+    pub fn trace_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Vec3<S> {
+        self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones))
+    }
+
+    fn trace_culled(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, cones: Option<&LensCones<S>>) -> Vec3<S> {
+        let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::EPSILON, cones) else {
             return self.background;
         };
         let obj = &self.objects[i];

@@ -167,17 +167,11 @@ impl<S: Scalar> Affine<S> {
         (Vec3::from_array(u), len, inv)
     }
 
-    /// Transforms a precise direction (see [`Scalar::rows_apply_dir`]).
+    /// Where the world ray `o + t d` meets this object's plane z = 0 (see
+    /// [`Scalar::plane_hit`]), for `t_min < t < t_max`.
     #[inline]
-    pub fn dir(&self, d: S::Dir) -> S::Dir {
-        S::rows_apply_dir(&self.rows, d)
-    }
-
-    /// Transforms a point exactly into a precise direction (see
-    /// [`Scalar::rows_apply_point_dir`]).
-    #[inline]
-    pub fn point_dir(&self, p: Vec3<S>) -> S::Dir {
-        S::rows_apply_point_dir(&self.rows, p.to_array())
+    pub fn plane_hit(&self, o: Vec3<S>, d: S::Dir, t_min: S, t_max: S) -> Option<(S, S, S)> {
+        S::plane_hit(&self.rows, o.to_array(), d, t_min, t_max)
     }
 
     /// One coordinate of a transformed point (`i` in 0..3).

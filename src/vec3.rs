@@ -54,13 +54,13 @@ impl<S: Scalar> Vec3<S> {
     }
 
     /// Dot product (saturating).
-    #[inline]
+    #[inline(always)]
     pub fn dot(self, o: Self) -> S {
         self.x.mul(o.x).add(self.y.mul(o.y)).add(self.z.mul(o.z))
     }
 
     /// Component-wise product (colours).
-    #[inline]
+    #[inline(always)]
     pub fn hadamard(self, o: Self) -> Self {
         Vec3::new(self.x.mul(o.x), self.y.mul(o.y), self.z.mul(o.z))
     }

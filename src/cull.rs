@@ -1,0 +1,155 @@
+//! Which objects a ray from the lens can reach at all, decided per object by
+//! one dot product.
+//!
+//! Every camera ray leaves the lens, within its radius a of the lens centre E.
+//! A ray from there passes within r of a bounding sphere's centre c only if
+//! the same direction from E passes within r + a of it (the ray moved by at
+//! most a), which holds only for directions within the angle θ of the axis
+//! towards c, where sin θ = (r + a) / |c − E|. So the test of an object's
+//! bounding sphere, a dozen products, becomes `d · axis < cos θ` for the
+//! objects the ray misses by a wide margin: most of them, for most rays.
+
+use crate::scalar::Scalar;
+use crate::scene::{Scene, MAX_OBJECTS};
+use crate::vec3::Vec3;
+
+/// The cone of directions from the lens that can reach one object.
+#[derive(Copy, Clone, Debug, PartialEq)]
+struct Cone<S> {
+    /// Unit vector from E towards the bounding sphere's centre.
+    axis: Vec3<S>,
+    /// Directions with `d · axis` below this miss the object.
+    cos_min: S,
+    /// Every direction may reach it (the plane; a lens inside the sphere).
+    always: bool,
+}
+
+/// The lens's cones for every object of a scene, in the scene's order.
+#[derive(Clone, Debug)]
+pub struct LensCones<S: Scalar> {
+    cones: heapless::Vec<Cone<S>, MAX_OBJECTS>,
+}
+
+/// Slack on `cos θ` for the rounding of the direction, the axis and their dot
+/// product in Q16.16 (each within a few 2^-17): 2^-12.
+const SLACK: f64 = 1.0 / 4096.0;
+
+impl<S: Scalar> LensCones<S> {
+    /// The cones seen from a lens of radius `radius` (0 for a pinhole) centred
+    /// at `eye`, in world space. Set-up only, in f64.
+    pub fn new(scene: &Scene<S>, eye: [f64; 3], radius: f64) -> Self {
+        let radius = if radius.is_finite() && radius > 0.0 {
+            radius
+        } else {
+            0.0
+        };
+        let every = Cone {
+            axis: Vec3::ZERO,
+            cos_min: S::ZERO,
+            always: true,
+        };
+        let mut cones = heapless::Vec::new();
+        for obj in &scene.objects {
+            let cone = obj.bound().map_or(every, |(centre, r)| {
+                let w = [0, 1, 2].map(|k| centre.to_f64()[k] - eye[k]);
+                let dist = libm::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+                let reach = r.to_f64() + radius;
+                if dist <= reach * (1.0 + 1e-9) + 1e-6 {
+                    return every;
+                }
+                let sin = reach / dist;
+                Cone {
+                    axis: Vec3::from_f64(w.map(|x| x / dist)),
+                    cos_min: S::from_f64(libm::sqrt(1.0 - sin * sin) - SLACK),
+                    always: false,
+                }
+            });
+            // One cone per object: the scene holds at most MAX_OBJECTS.
+            let _ = cones.push(cone);
+        }
+        LensCones { cones }
+    }
+
+    /// Whether a ray from the lens along the unit `d` can reach object `i`.
+    #[inline(always)]
+    pub fn may_reach(&self, i: usize, d: Vec3<S>) -> bool {
+        match self.cones.get(i) {
+            Some(c) => c.always || d.dot(c.axis) >= c.cos_min,
+            None => true,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fixed::types::I16F16;
+
+    /// Distance from `c` to the ray `o + t d` (t >= 0), in f64.
+    fn ray_distance(o: [f64; 3], d: [f64; 3], c: [f64; 3]) -> f64 {
+        let w = [0, 1, 2].map(|k| c[k] - o[k]);
+        let t = (w[0] * d[0] + w[1] * d[1] + w[2] * d[2]).max(0.0);
+        let p = [0, 1, 2].map(|k| w[k] - t * d[k]);
+        libm::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2])
+    }
+
+    fn check<S: Scalar>() {
+        let text = "lens_position 0.5 -0.25 1\nlight_position 0 5 0\n\
+                    object sphere\ntranslate 0 0 -8\n\
+                    object cube\nscale 0.5 0.5 0.5\ntranslate -2 -1.5 -6\n\
+                    object plane\ntranslate 0 -3 0\n\
+                    object cone\nscale 2 2 2\ntranslate 4 0.5 -15\n\
+                    object sphere\ntranslate 0.5 -0.25 1.5\n";
+        let scene = Scene::<S>::parse(text).unwrap();
+        let eye = [0.5, -0.25, 1.0];
+        let radius = 0.4;
+        let cones = LensCones::new(&scene, eye, radius);
+        let mut seed = 0x1234_5678u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            (seed >> 8) as f64 / (1u32 << 24) as f64 * 2.0 - 1.0
+        };
+        let (mut culled, mut near_misses) = (0, 0);
+        for _ in 0..50_000 {
+            // A lens point within the radius (in the lens plane z = 1) and a direction ahead.
+            let (lx, ly) = (next() * radius * 0.7, next() * radius * 0.7);
+            let o = [eye[0] + lx, eye[1] + ly, eye[2]];
+            let d = [next() * 0.6, next() * 0.6, -1.0];
+            let l = libm::sqrt(d[0] * d[0] + d[1] * d[1] + 1.0);
+            let d = d.map(|x| x / l);
+            let dv = Vec3::<S>::from_f64(d);
+            for (i, obj) in scene.objects.iter().enumerate() {
+                let reach = cones.may_reach(i, dv);
+                let Some((c, r)) = obj.bound() else {
+                    assert!(reach, "the plane is never culled");
+                    continue;
+                };
+                let dist = ray_distance(o, d, c.to_f64());
+                if !reach {
+                    culled += 1;
+                    // Culled only where the ray misses the bounding sphere.
+                    assert!(dist > r.to_f64(), "object {i}: culled at distance {dist} within {r:?}");
+                    // Tight: the same direction from the lens centre passes just outside r + a.
+                    if ray_distance(eye, d, c.to_f64()) < (r.to_f64() + radius) * 1.05 {
+                        near_misses += 1;
+                    }
+                }
+                if i == 4 {
+                    assert!(reach, "a lens inside the sphere culls nothing");
+                }
+            }
+        }
+        // Most of the three distant objects are out of reach, and the cone is
+        // tight: some culled directions pass within 5 % of r + a from the centre.
+        assert!(culled > 100_000, "{} culled {culled}", S::NAME);
+        assert!(near_misses > 50, "{} near misses {near_misses}", S::NAME);
+    }
+
+    #[test]
+    fn culls_only_rays_that_miss() {
+        check::<I16F16>();
+        check::<f32>();
+    }
+}

@@ -1,0 +1,274 @@
+//! The camera's exact map from a pixel to its rays' world directions.
+//!
+//! A pixel's chief ray runs along `D(i, j) = a i + b j + c` in world space,
+//! with `(i, j) = (2c + 1, 2r + 1)` its doubled centre and a, b, c fixed by the
+//! camera; a lens sample `(s_x, s_y)` tilts it to `D − s_x k_u − s_y k_v` (see
+//! [`crate::camera`]). In Q16.16 the map is held as integers at one scale
+//! chosen at set-up, so that a ray's direction costs six small products, one
+//! square root and one reciprocal, and comes out a unit vector to 30 bits.
+
+use crate::plane::unit_mantissas;
+use crate::scalar::{shr_round, FixedDir};
+use crate::wide::mul_i32;
+use fixed::types::I16F16;
+
+/// The map's exact parts, from the camera's set-up (world space).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct FilmMapDesc {
+    /// Change of direction per unit of the doubled column index.
+    pub a: [f64; 3],
+    /// Change of direction per unit of the doubled row index.
+    pub b: [f64; 3],
+    /// The direction at index (0, 0).
+    pub c: [f64; 3],
+    /// What a lens sample's x (in units of the lens radius) takes off the direction.
+    pub k_u: [f64; 3],
+    /// What a lens sample's y takes off the direction.
+    pub k_v: [f64; 3],
+    /// Largest doubled column index, `2 cols − 1`.
+    pub i_max: f64,
+    /// Largest doubled row index, `2 rows − 1`.
+    pub j_max: f64,
+}
+
+/// Q16.16's film map: `a`, `b`, `c` at scale `2^-(s + f)`, `k_u`, `k_v` at
+/// `2^-s`, with s chosen so that every direction, lens term included, stays
+/// below 2^31 at scale `2^-s`, and f (at most 15) so that a and b fit an i32.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct FixedFilmMap {
+    a: [i32; 3],
+    b: [i32; 3],
+    c: [i64; 3],
+    k_u: [i32; 3],
+    k_v: [i32; 3],
+    f: u32,
+}
+
+/// Rounds `x` to the nearest integer, away from zero on ties. Set-up only.
+fn round_f64(x: f64) -> f64 {
+    let r = libm::floor(libm::fabs(x) + 0.5);
+    if x < 0.0 {
+        -r
+    } else {
+        r
+    }
+}
+
+impl FixedFilmMap {
+    /// Chooses the scales and rounds the parts. Set-up only.
+    pub fn new(d: &FilmMapDesc) -> FixedFilmMap {
+        // The largest |component| over the image's corners, with the lens's
+        // reach, and |a| and |b| themselves (one column leaves a unconstrained).
+        let mut bound = 0.0f64;
+        for k in 0..3 {
+            let extra = libm::fabs(d.k_u[k]) + libm::fabs(d.k_v[k]);
+            bound = bound.max(libm::fabs(d.a[k])).max(libm::fabs(d.b[k]));
+            for (i, j) in [(1.0, 1.0), (d.i_max, 1.0), (1.0, d.j_max), (d.i_max, d.j_max)] {
+                bound = bound.max(libm::fabs(d.a[k] * i + d.b[k] * j + d.c[k]) + extra);
+            }
+        }
+        // 2^8 of headroom for the rounding of a, b and c.
+        let limit = (1u64 << 31) as f64 - 256.0;
+        let s = if bound > 0.0 && bound.is_finite() {
+            libm::floor(libm::log2(limit / bound)) as i32
+        } else {
+            0
+        };
+        let s = if bound * libm::exp2(s as f64) >= limit {
+            s - 1
+        } else {
+            s
+        };
+        let ab = (0..3)
+            .map(|k| libm::fabs(d.a[k]).max(libm::fabs(d.b[k])))
+            .fold(0.0, f64::max);
+        let f = if ab > 0.0 {
+            let room = libm::floor(libm::log2(((1u64 << 31) - 1) as f64 / (ab * libm::exp2(s as f64)))) as i32;
+            room.clamp(0, 15) as u32
+        } else {
+            15
+        };
+        let scale = |x: f64, e: i32| round_f64(x * libm::exp2(e as f64));
+        let sf = s + f as i32;
+        FixedFilmMap {
+            a: d.a.map(|x| scale(x, sf) as i32),
+            b: d.b.map(|x| scale(x, sf) as i32),
+            c: d.c.map(|x| scale(x, sf) as i64),
+            k_u: d.k_u.map(|x| scale(x, s) as i32),
+            k_v: d.k_v.map(|x| scale(x, s) as i32),
+            f,
+        }
+    }
+
+    /// `D(i, j)` exactly, at scale `2^-(s + f)`.
+    #[inline]
+    pub fn film(&self, i: i32, j: i32) -> [i64; 3] {
+        [0, 1, 2].map(|k| mul_i32(self.a[k], i) + mul_i32(self.b[k], j) + self.c[k])
+    }
+
+    /// The unit direction along `D − s_x k_u − s_y k_v` for a film direction
+    /// from [`FixedFilmMap::film`] and a lens sample in Q1.15 ((0, 0) for the
+    /// chief ray): 30-bit mantissas marked unit, and rounded to Q16.16.
+    #[inline]
+    pub fn ray_dir(&self, film: &[i64; 3], lens: (i32, i32)) -> (FixedDir, [I16F16; 3]) {
+        // The direction exactly, at scale 2^-(s + g).
+        let (w, g) = if lens == (0, 0) {
+            (*film, self.f)
+        } else {
+            // Lens terms are exact at 2^-(s + 15): Q1.15 times the i32 parts.
+            let up = 15 - self.f;
+            let w = [0, 1, 2].map(|k| (film[k] << up) - mul_i32(lens.0, self.k_u[k]) - mul_i32(lens.1, self.k_v[k]));
+            (w, 15)
+        };
+        // Below 2^31 at scale 2^-s; a direction far shorter than the film's
+        // largest (a very tall or wide film) keeps more of its bits.
+        let mut d = if g == 0 { w } else { w.map(|x| shr_round(x, g)) };
+        if d.iter().all(|x| x.unsigned_abs() < 1 << 29) && g > 0 {
+            let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
+            let keep = (64 - big.leading_zeros()).saturating_sub(31).min(g);
+            d = if keep == 0 { w } else { w.map(|x| shr_round(x, keep)) };
+        }
+        let Some(m) = unit_mantissas(d) else {
+            let zero = FixedDir {
+                m: [0; 3],
+                e: -30,
+                unit: false,
+            };
+            return (zero, [I16F16::ZERO; 3]);
+        };
+        let rounded = m.map(|x| I16F16::from_bits(shr_round(x, 14) as i32));
+        (FixedDir { m, e: -30, unit: true }, rounded)
+    }
+}
+
+/// f32's film map: the parts rounded to f32.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct FloatFilmMap {
+    a: [f32; 3],
+    b: [f32; 3],
+    c: [f32; 3],
+    k_u: [f32; 3],
+    k_v: [f32; 3],
+}
+
+impl FloatFilmMap {
+    /// Rounds the parts. Set-up only.
+    pub fn new(d: &FilmMapDesc) -> FloatFilmMap {
+        let r = |v: [f64; 3]| v.map(|x| x as f32);
+        FloatFilmMap {
+            a: r(d.a),
+            b: r(d.b),
+            c: r(d.c),
+            k_u: r(d.k_u),
+            k_v: r(d.k_v),
+        }
+    }
+
+    /// `D(i, j)`.
+    #[inline]
+    pub fn film(&self, i: i32, j: i32) -> [f32; 3] {
+        let (i, j) = (i as f32, j as f32);
+        [0, 1, 2].map(|k| self.a[k] * i + self.b[k] * j + self.c[k])
+    }
+
+    /// The unit direction along `D − s_x k_u − s_y k_v`.
+    #[inline]
+    pub fn ray_dir(&self, film: &[f32; 3], lens: (i32, i32)) -> [f32; 3] {
+        let d = if lens == (0, 0) {
+            *film
+        } else {
+            let (sx, sy) = (lens.0 as f32 / 32768.0, lens.1 as f32 / 32768.0);
+            [0, 1, 2].map(|k| film[k] - sx * self.k_u[k] - sy * self.k_v[k])
+        };
+        <f32 as crate::scalar::Scalar>::normalize3(d).0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The exact unit direction of `D(i, j) − s_x k_u − s_y k_v`, in f64.
+    fn exact(d: &FilmMapDesc, i: i32, j: i32, lens: (i32, i32)) -> [f64; 3] {
+        let (sx, sy) = (lens.0 as f64 / 32768.0, lens.1 as f64 / 32768.0);
+        let v: [f64; 3] =
+            core::array::from_fn(|k| d.a[k] * i as f64 + d.b[k] * j as f64 + d.c[k] - sx * d.k_u[k] - sy * d.k_v[k]);
+        let l = libm::sqrt(v.iter().map(|x| x * x).sum());
+        v.map(|x| x / l)
+    }
+
+    /// Cameras from ordinary to extreme: a tilted basis, a lens whose reach
+    /// dwarfs the film, one column or one row of the largest image, a film far
+    /// wider than its distance.
+    fn cameras() -> impl Iterator<Item = FilmMapDesc> {
+        let s = libm::sqrt(0.5);
+        let (u, v, n) = ([s, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, s]);
+        let desc = move |width: f64, cols: u32, rows: u32, big_n: f64, tilt: f64| {
+            let p = width / cols as f64;
+            let (w, h) = (width / 2.0, p * rows as f64 / 2.0);
+            FilmMapDesc {
+                a: u.map(|x| x * p / 2.0),
+                b: v.map(|x| -x * p / 2.0),
+                c: core::array::from_fn(|k| -w * u[k] + h * v[k] - big_n * n[k]),
+                k_u: u.map(|x| x * tilt),
+                k_v: v.map(|x| x * tilt),
+                i_max: (2 * cols - 1) as f64,
+                j_max: (2 * rows - 1) as f64,
+            }
+        };
+        [
+            desc(10.0, 160, 120, 8.0, 0.2),
+            desc(10.0, 8192, 8192, 8.0, 0.0),
+            desc(10.0, 1, 8192, 8.0, 0.1),
+            desc(441.856, 8192, 1, 0.001, 3.0),
+            desc(10.0, 1, 1, 8.0, 500.0),
+            desc(32000.0, 640, 480, 0.01, 0.0),
+        ]
+        .into_iter()
+    }
+
+    #[test]
+    fn unit_directions_match_the_exact_ones() {
+        let mut seed = 0x9E37_79B9u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed
+        };
+        for (c, d) in cameras().enumerate() {
+            let ordinary = c == 0;
+            let map = FixedFilmMap::new(&d);
+            let float = FloatFilmMap::new(&d);
+            for n in 0..2000 {
+                let i = 1 + 2 * (next() % (d.i_max as u32).div_ceil(2)) as i32;
+                let j = 1 + 2 * (next() % (d.j_max as u32).div_ceil(2)) as i32;
+                let lens = if n % 2 == 0 || d.k_u == [0.0; 3] {
+                    (0, 0)
+                } else {
+                    ((next() >> 17) as i32 - 16384, (next() >> 17) as i32 - 16384)
+                };
+                let want = exact(&d, i, j, lens);
+                let (precise, rounded) = map.ray_dir(&map.film(i, j), lens);
+                assert!(precise.unit && precise.e == -30, "{d:?}");
+                for k in 0..3 {
+                    let m = precise.m[k] as f64 / (1u64 << 30) as f64;
+                    // 30-bit mantissas: within 2^-27 for Program 1's camera, and 2^-21
+                    // where a lens's reach or a film's size dwarfs the direction.
+                    let tol = if ordinary { 1u32 << 27 } else { 1 << 21 };
+                    assert!(
+                        (m - want[k]).abs() < 1.0 / tol as f64,
+                        "{d:?} ({i}, {j}) {lens:?}: {m} vs {want:?}"
+                    );
+                    let r = rounded[k].to_bits() as f64 / 65536.0;
+                    assert!((r - want[k]).abs() <= 0.5 / 65536.0 + 1e-7, "{r} vs {want:?}");
+                    // f32 has 24 bits for the sum a i + b j + c: the ordinary cameras only.
+                    if d.c.iter().all(|x| x.abs() < 100.0) {
+                        let f = float.ray_dir(&float.film(i, j), lens)[k] as f64;
+                        assert!((f - want[k]).abs() < 1e-5, "f32 {f} vs {want:?}");
+                    }
+                }
+            }
+        }
+    }
+}
