@@ -529,9 +529,15 @@ impl<S: Scalar> Scene<S> {
         };
         let mut colour = ka.hadamard(self.ambient);
         // Shadow rays leave from just above the surface, on the viewer's side.
-        let p_shadow = p + n * S::EPSILON;
+        let p_shadow = if self.shadows { p + n * S::EPSILON } else { p };
         for light in &self.lights {
-            let (l, dist) = (light.position - p).normalize_len();
+            let to_light = light.position - p;
+            // A light behind the surface needs no normalising (in Program 1, the
+            // lamp under the floor for every floor pixel).
+            if n.dot(to_light) <= S::ZERO {
+                continue;
+            }
+            let (l, dist) = to_light.normalize_len();
             let n_dot_l = n.dot(l);
             if n_dot_l <= S::ZERO {
                 continue;
