@@ -56,20 +56,18 @@ pub fn render_image<S: Scalar + Send + Sync>(
     if let Some(n) = samples {
         renderer = renderer.with_samples(n);
     }
-    let rows: Vec<Vec<Rgb888>> = (0..height)
-        .into_par_iter()
-        .map(|row| {
-            let mut out = vec![Rgb888::BLACK; width as usize];
-            renderer.render_row(row, &mut out);
-            on_row();
-            out
-        })
-        .collect();
-    Image {
-        width,
-        height,
-        pixels: rows.into_iter().flatten().collect(),
+    // Rows straight into the image: no per-row allocation, no copy at the end.
+    let mut pixels = vec![Rgb888::BLACK; width as usize * height as usize];
+    if width > 0 {
+        pixels
+            .par_chunks_mut(width as usize)
+            .enumerate()
+            .for_each(|(row, out)| {
+                renderer.render_row(row as u32, out);
+                on_row();
+            });
     }
+    Image { width, height, pixels }
 }
 
 /// Encodes a 24-bit uncompressed BMP (bottom-up rows, padded to 4 bytes).
