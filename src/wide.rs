@@ -109,16 +109,18 @@ pub(crate) fn mul_u64(a: u64, b: u64) -> u64 {
     }
 }
 
-/// Rounded `1 / sqrt(x)` in Q1.15 at the middle of each of the 384 intervals
-/// `[i, i + 1) / 512` of x in [1/4, 1): `round(sqrt(2^40 / (2i + 1)))`. Max 65408.
-const RSQRT_T: [u16; 384] = {
-    let mut t = [0u16; 384];
-    let mut j = 0;
-    while j < 384 {
-        let q = (1u64 << 42) / (2 * (j as u64 + 128) + 1);
+/// Rounded `1 / sqrt(x)` in Q1.15 at the middle of each interval
+/// `[i, i + 1) / 512` of x in [1/4, 1), i in 128..512: `round(sqrt(2^40 / (2i + 1)))`,
+/// at most 65408. Indexed by i directly (entries below 128 unused) so that
+/// no bounds check is needed.
+const RSQRT_T: [u16; 512] = {
+    let mut t = [0u16; 512];
+    let mut i = 128;
+    while i < 512 {
+        let q = (1u64 << 42) / (2 * i as u64 + 1);
         // round(sqrt(q / 4)) from the floor of sqrt(q).
-        t[j] = ((q.isqrt() + 1) / 2) as u16;
-        j += 1;
+        t[i] = ((q.isqrt() + 1) / 2) as u16;
+        i += 1;
     }
     t
 };
@@ -172,59 +174,81 @@ fn isqrt_fix_u64(n: u64, r: u64) -> (u64, u64) {
     (r, rem)
 }
 
-/// `(floor(sqrt(n)), n - floor(sqrt(n))^2)` for a u32, exact for every n.
+/// An estimate of `floor(sqrt(n))` for `n > 0`, within 2 units.
 ///
-/// Table start for `1/sqrt` of n scaled to [2^30, 2^32), one Newton step
-/// (32-bit products only), then an exact correction by squares.
-#[inline]
-fn isqrt_rem_u32(n: u32) -> (u32, u32) {
-    if n == 0 {
-        return (0, 0);
-    }
+/// Table start for `1/sqrt` of n scaled to [2^30, 2^32) and one Newton step
+/// for the root, with 32-bit products only.
+#[inline(always)]
+fn isqrt_estimate_u32(n: u32) -> u32 {
     let k = n.leading_zeros() / 2;
     let nn = n << (2 * k);
     // y0 ≈ 2^15 / sqrt(nn / 2^32), relative error below 2^-9.
-    let y0 = RSQRT_T[(nn >> 23) as usize - 128] as u32;
+    let y0 = RSQRT_T[(nn >> 23) as usize] as u32;
     // s0 ≈ sqrt(nn), within 2^-8.9; (nn >> 16) · y0 < 2^32.
     let s0 = ((nn >> 16) * y0) >> 15;
     // |nn - s0^2| < 2^24.1 even when s0^2 wraps a u32.
     let res = nn.wrapping_sub(s0.wrapping_mul(s0)) as i32;
     // Newton: s1 = s0 + res / (2 s0) ≈ s0 + res · y0 / 2^32, |(res >> 10) · y0| < 2^30.1.
     let s1 = s0 as i32 + (((res >> 10) * y0 as i32) >> 22);
-    isqrt_fix_u32(n, (s1.max(0) as u32) >> k)
+    (s1.max(0) as u32) >> k
+}
+
+/// `(floor(sqrt(n)), n - floor(sqrt(n))^2)` for a u32, exact for every n:
+/// [`isqrt_estimate_u32`] corrected by squares.
+#[inline]
+fn isqrt_rem_u32(n: u32) -> (u32, u32) {
+    if n == 0 {
+        return (0, 0);
+    }
+    isqrt_fix_u32(n, isqrt_estimate_u32(n))
+}
+
+/// An estimate of `floor(sqrt(n))` for `n >= 2^32`, within 2 units.
+///
+/// n scaled to [2^62, 2^64): a table start for `1/sqrt`, one Newton step for
+/// it, the root `n · (1/sqrt n)` and one Newton step for the root: four
+/// 32 × 32 → 64-bit products (from halves on a Cortex-M0), 32-bit shifts only.
+#[inline(always)]
+fn isqrt_estimate_u64(n: u64) -> u32 {
+    let (hi, lo) = ((n >> 32) as u32, n as u32);
+    debug_assert!(hi != 0);
+    let k = hi.leading_zeros() / 2;
+    // nn = n << 2k in 32-bit words (a variable u64 shift is a library call on the M0).
+    let (nh, nl) = if k == 0 {
+        (hi, lo)
+    } else {
+        ((hi << (2 * k)) | (lo >> (32 - 2 * k)), lo << (2 * k))
+    };
+    let nn = ((nh as u64) << 32) | nl as u64;
+    // y0 ≈ 2^15 / sqrt(x), x = nn / 2^64 in [1/4, 1); relative error below 2^-9.
+    let y0 = RSQRT_T[(nh >> 23) as usize] as u32;
+    // Newton for 1/sqrt: y1 = y0 (3 - x y0^2) / 2, in Q1.31; t = x y0^2 in Q2.30.
+    let t = (mul_u32(nh, y0 * y0) >> 32) as u32;
+    let h = 3 * (1u32 << 30) - t;
+    // y0 · h / 2^15 exactly, from two 16 × 16-bit products; below 2^32 (y1 < 2).
+    let y1 = ((y0 * (h >> 16)) << 1) + ((y0 * (h & 0xFFFF)) >> 15);
+    // s1 = x · y1 · 2^32 ≈ sqrt(nn), relative error about 2^-17.4, below 2^32.
+    let s1 = (mul_u32(nh, y1) >> 31) as u32;
+    // Newton for the root with 1/sqrt(nn) = y1 / 2^63: s2 = s1 + res · y1 / 2^64.
+    let res = nn.wrapping_sub(mul_u32(s1, s1)) as i64;
+    // |res| < 2^47.6, so |res| >> 16 fits a u32.
+    let c = (mul_u32((res.unsigned_abs() >> 16) as u32, y1) >> 48) as u32;
+    let s2 = if res < 0 { s1 - c } else { s1.saturating_add(c) };
+    s2 >> k
 }
 
 /// `(floor(sqrt(n)), n - floor(sqrt(n))^2)` for a u64, exact for every n.
 ///
-/// n scaled to [2^62, 2^64): a table start for `1/sqrt`, one Newton step for
-/// it, the root `n · (1/sqrt n)` and one Newton step for the root (five 32 ×
-/// 32 → 64-bit products, from halves on a Cortex-M0), then an exact correction
-/// by squares. Some 150 instructions on a Cortex-M0 where the bit-by-bit
-/// method took 500 or more.
+/// Table start and Newton steps by products only (see
+/// [`isqrt_estimate_u64`]), then an exact correction by squares: some 150
+/// instructions on a Cortex-M0 where the bit-by-bit method took 500 or more.
 #[inline]
 pub(crate) fn isqrt_rem_u64(n: u64) -> (u64, u64) {
     if n >> 32 == 0 {
         let (r, rem) = isqrt_rem_u32(n as u32);
         return (r as u64, rem as u64);
     }
-    let k = n.leading_zeros() / 2;
-    let nn = n << (2 * k);
-    let nh = (nn >> 32) as u32;
-    // y0 ≈ 2^15 / sqrt(x), x = nn / 2^64 in [1/4, 1); relative error below 2^-9.
-    let y0 = RSQRT_T[(nn >> 55) as usize - 128] as u32;
-    // Newton for 1/sqrt: y1 = y0 (3 - x y0^2) / 2, in Q1.31; t = x y0^2 in Q2.30.
-    let t = (mul_u32(nh, y0 * y0) >> 32) as u32;
-    let h = 3 * (1u32 << 30) - t;
-    // y0 · h / 2^15 exactly, from two 16 × 16-bit products; below 2^32 (y1 < 2).
-    let y1 = ((y0 * (h >> 16)) << 1) + ((y0 * (h & 0xFFFF)) >> 15);
-    // s1 = x · y1 · 2^32 ≈ sqrt(nn), relative error about 2^-17.4.
-    let s1 = (mul_u32(nh, y1) >> 31).min(u32::MAX as u64) as u32;
-    // Newton for the root with 1/sqrt(nn) = y1 / 2^63: s2 = s1 + res · y1 / 2^64.
-    let res = nn.wrapping_sub(mul_u32(s1, s1)) as i64;
-    // |res| < 2^47.6, so |res| >> 16 fits a u32.
-    let c = (mul_u32((res.unsigned_abs() >> 16) as u32, y1) >> 48) as i64;
-    let s2 = s1 as i64 + if res < 0 { -c } else { c };
-    isqrt_fix_u64(n, (s2.max(0) as u64) >> k)
+    isqrt_fix_u64(n, isqrt_estimate_u64(n) as u64)
 }
 
 /// `sqrt(n)` rounded to nearest (no ties are possible), exact for every n.
@@ -239,40 +263,45 @@ pub(crate) fn isqrt_round_u64(n: u64) -> u64 {
     }
 }
 
-/// `floor((2^64 - 1) / d) - 2^32` for a normalised divisor `d >= 2^31`: the
-/// reciprocal of the 2-by-1 word division of Möller and Granlund (2011).
+/// An estimate of [`recip_word`]`(d)` from below, by at most 3, for `d >= 2^31`.
 ///
-/// A table start (9 bits), a Newton step in 32-bit products, a full-width
-/// Newton step and an exact correction by the remainder.
+/// A table start (9 bits), a Newton step in 32-bit products and a
+/// full-width Newton step. Every rounding is downwards (Newton's step for a
+/// reciprocal never overshoots), so the estimate never exceeds the reciprocal.
+#[inline(always)]
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+fn recip_word_estimate(d: u32) -> u32 {
+    debug_assert!(d >> 31 == 1);
+    // x0 ≈ 2^47 / d, relative error below 2^-9; d >> 23 is in 256..512.
+    let x0 = RECIP_T[((d >> 23) & 0xFF) as usize] as u32;
+    // e = (2^47 - d · x0) / 2^24, |e| < 2^14.1, from two 16 × 16-bit products;
+    // the floors make it at most 2 too large.
+    let p = (((d >> 16) * x0) >> 8) + (((d & 0xFFFF) * x0) >> 24);
+    let e = (1i32 << 23) - p as i32;
+    // Newton: 2^64 / d ≈ x0 · 2^17 + x0 · e / 2^6, |e · x0| < 2^30.1; less 2^12
+    // (more than e's 2 · x0 / 2^6) to stay below the reciprocal.
+    let v1 = ((x0 as i64) << 17) + ((e * x0 as i32) >> 6) as i64 - (1i64 << 32) - (1 << 12);
+    let v1 = v1.max(0) as u32;
+    // e2 = 2^64 - d (2^32 + v1) in (0, 2^47); Newton: v += e2 / 2^32 + v1 · e2 / 2^64.
+    let e2 = ((d as u64) << 32).wrapping_neg() - mul_u32(d, v1);
+    let m = (e2 >> 32) as u32;
+    // v1 · m / 2^32 from two 16 × 16-bit products (m < 2^15).
+    let t = ((v1 >> 16) * m + (((v1 & 0xFFFF) * m) >> 16)) >> 16;
+    v1 + m + t
+}
+
+/// `floor((2^64 - 1) / d) - 2^32` for a normalised divisor `d >= 2^31`,
+/// exactly: the reciprocal of the 2-by-1 word division of Möller and
+/// Granlund (2011), from [`recip_word_estimate`] corrected by the remainder.
 #[inline]
 #[cfg_attr(not(lensray_v6m), allow(dead_code))]
 fn recip_word(d: u32) -> u32 {
-    debug_assert!(d >> 31 == 1);
-    // x0 ≈ 2^47 / d, relative error below 2^-9.
-    let x0 = RECIP_T[(d >> 23) as usize - 256] as u32;
-    // e1 = 2^47 - d · x0 exactly (d · x0 < 2^48 from two 16 × 16 products); |e1| < 2^38.1.
-    let p = ((((d >> 16) * x0) as u64) << 16) + ((d & 0xFFFF) * x0) as u64;
-    let e1 = (1i64 << 47) - p as i64;
-    // Newton: 2^64 / d ≈ x0 · 2^17 + x0 · e1 / 2^30; |(e1 >> 24) · x0| < 2^30.1.
-    let v1 = ((x0 as i64) << 17) + ((((e1 >> 24) as i32) * x0 as i32) >> 6) as i64 - (1i64 << 32);
-    let v1 = v1.clamp(0, u32::MAX as i64) as u32;
-    // e2 = 2^64 - d (2^32 + v1), |e2| < 2^47; Newton: v += e2 / 2^32 + v1 · e2 / 2^64.
-    let e2 = ((d as u64) << 32).wrapping_neg().wrapping_sub(mul_u32(d, v1)) as i64;
-    let eh = e2 >> 32;
-    let m = eh.unsigned_abs() as u32;
-    // v1 · m / 2^32 from two 16 × 16-bit products (m < 2^15).
-    let t = (((v1 >> 16) * m + (((v1 & 0xFFFF) * m) >> 16)) >> 16) as i64;
-    let v2 = v1 as i64 + eh + if eh < 0 { -t } else { t };
-    let mut v = v2.clamp(0, u32::MAX as i64) as u32;
-    // Exact: e = 2^64 - 1 - d (2^32 + v) must lie in [0, d).
-    let mut e = (!((d as u64) << 32)).wrapping_sub(mul_u32(d, v)) as i64;
-    while e < 0 {
-        v -= 1;
-        e += d as i64;
-    }
-    while e >= d as i64 {
+    let mut v = recip_word_estimate(d);
+    // e = 2^64 - 1 - d (2^32 + v) >= 0 must drop below d.
+    let mut e = !((d as u64) << 32) - mul_u32(d, v);
+    while e >= d as u64 {
         v += 1;
-        e -= d as i64;
+        e -= d as u64;
     }
     v
 }
@@ -544,7 +573,38 @@ mod tests {
         assert_eq!(isqrt_rem_u64(1 << 32), (1 << 16, 0));
     }
 
-    /// The 32-bit square root, for every u32 (some four billion; run with --ignored).
+    /// The estimates before the correction stay within their stated bounds
+    /// (the corrections are exact from any start, only slower).
+    #[test]
+    fn estimates_are_close() {
+        let mut r = rng(23);
+        for _ in 0..1_000_000 {
+            let n = r() >> (r() % 32);
+            let n = n.max(1 << 32);
+            let e = isqrt_estimate_u64(n) as i64 - isqrt_reference(n) as i64;
+            assert!(e.abs() <= 2, "{n}: {e}");
+            let n32 = ((r() >> 32) as u32 >> (r() % 32)).max(1);
+            let e = isqrt_estimate_u32(n32) as i64 - isqrt_reference(n32 as u64) as i64;
+            assert!(e.abs() <= 2, "{n32}: {e}");
+            let d = (r() as u32) | (1 << 31);
+            let v = (u64::MAX as u128 / d as u128 - (1u128 << 32)) as u32;
+            assert!((0..=3).contains(&(v - recip_word_estimate(d))), "{d}");
+        }
+        for n in [
+            u64::MAX,
+            u64::MAX - 1,
+            1 << 32,
+            (1 << 62) - 1,
+            1 << 62,
+            0xFFFF_FFFE_0000_0001,
+        ] {
+            let e = isqrt_estimate_u64(n) as i64 - isqrt_reference(n) as i64;
+            assert!(e.abs() <= 2, "{n}: {e}");
+        }
+    }
+
+    /// The 32-bit square root and its estimate, for every u32 (some four
+    /// billion; run with --ignored).
     #[test]
     #[ignore]
     fn square_root_u32_exhaustive() {
@@ -554,9 +614,11 @@ mod tests {
                 root += 1;
             }
             assert_eq!(isqrt_rem_u32(n), (root, n - root * root), "{n}");
+            if n > 0 {
+                assert!(isqrt_estimate_u32(n).abs_diff(root) <= 2, "{n}");
+            }
         }
     }
-
     /// The word reciprocal's definition: `(2^32 + v) · d <= 2^64 - 1 < (2^32 + v + 1) · d`.
     fn check_recip_word(d: u32) {
         let v = recip_word(d);
@@ -595,6 +657,7 @@ mod tests {
     fn word_reciprocal_exhaustive() {
         for d in (1u32 << 31)..=u32::MAX {
             check_recip_word(d);
+            assert!(recip_word(d) - recip_word_estimate(d) <= 3, "{d}");
         }
     }
 
