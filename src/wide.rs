@@ -119,7 +119,7 @@ const RSQRT_T: [u16; 512] = {
     while i < 512 {
         let q = (1u64 << 42) / (2 * i as u64 + 1);
         // round(sqrt(q / 4)) from the floor of sqrt(q).
-        t[i] = ((q.isqrt() + 1) / 2) as u16;
+        t[i] = q.isqrt().div_ceil(2) as u16;
         i += 1;
     }
     t
@@ -686,8 +686,8 @@ mod tests {
             let lo = 1u64 << (bits - 1);
             for _ in 0..3000 {
                 let d = (lo + r() % lo) as u32;
-                let d = if r() % 8 == 0 { lo as u32 } else { d };
-                let d = if r() % 8 == 0 { ((lo << 1) - 1) as u32 } else { d };
+                let d = if r() & 7 == 0 { lo as u32 } else { d };
+                let d = if r() & 7 == 0 { ((lo << 1) - 1) as u32 } else { d };
                 let dd = d as u64;
                 let below = (dd << 32) - 1;
                 for n in [
