@@ -109,6 +109,47 @@ pub(crate) fn mul_u64(a: u64, b: u64) -> u64 {
     }
 }
 
+/// Leading zeros of a u32 by binary search, inline: on a Cortex-M0 (no
+/// `CLZ`) `leading_zeros` calls `__clzsi2`, some 30 instructions.
+#[inline(always)]
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+fn clz32_search(mut x: u32) -> u32 {
+    if x == 0 {
+        return 32;
+    }
+    let mut n = 0;
+    if x >> 16 == 0 {
+        n += 16;
+        x <<= 16;
+    }
+    if x >> 24 == 0 {
+        n += 8;
+        x <<= 8;
+    }
+    if x >> 28 == 0 {
+        n += 4;
+        x <<= 4;
+    }
+    if x >> 30 == 0 {
+        n += 2;
+        x <<= 2;
+    }
+    n + (!x >> 31)
+}
+
+/// Leading zeros of a u32.
+#[inline(always)]
+fn clz32(x: u32) -> u32 {
+    #[cfg(lensray_v6m)]
+    {
+        clz32_search(x)
+    }
+    #[cfg(not(lensray_v6m))]
+    {
+        x.leading_zeros()
+    }
+}
+
 /// Rounded `1 / sqrt(x)` in Q1.15 at the middle of each interval
 /// `[i, i + 1) / 512` of x in [1/4, 1), i in 128..512: `round(sqrt(2^40 / (2i + 1)))`,
 /// at most 65408. Indexed by i directly (entries below 128 unused) so that
@@ -180,7 +221,7 @@ fn isqrt_fix_u64(n: u64, r: u64) -> (u64, u64) {
 /// for the root, with 32-bit products only.
 #[inline(always)]
 fn isqrt_estimate_u32(n: u32) -> u32 {
-    let k = n.leading_zeros() / 2;
+    let k = clz32(n) / 2;
     let nn = n << (2 * k);
     // y0 ≈ 2^15 / sqrt(nn / 2^32), relative error below 2^-9.
     let y0 = RSQRT_T[(nn >> 23) as usize] as u32;
@@ -212,7 +253,7 @@ fn isqrt_rem_u32(n: u32) -> (u32, u32) {
 fn isqrt_estimate_u64(n: u64) -> u32 {
     let (hi, lo) = ((n >> 32) as u32, n as u32);
     debug_assert!(hi != 0);
-    let k = hi.leading_zeros() / 2;
+    let k = clz32(hi) / 2;
     // nn = n << 2k in 32-bit words (a variable u64 shift is a library call on the M0).
     let (nh, nl) = if k == 0 {
         (hi, lo)
@@ -351,7 +392,7 @@ impl RecipMul {
     #[inline]
     pub(crate) fn new(d: u32) -> RecipMul {
         debug_assert!(d != 0, "division by zero");
-        let s = d.leading_zeros();
+        let s = clz32(d);
         let dn = d << s;
         RecipMul {
             d,
@@ -457,6 +498,21 @@ mod tests {
             s ^= s << 25;
             s ^= s >> 27;
             s.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        }
+    }
+
+    #[test]
+    fn leading_zeros_by_search() {
+        for b in 0..32 {
+            for x in [1u32 << b, (1u32 << b) | 1, ((1u64 << (b + 1)) - 1) as u32] {
+                assert_eq!(clz32_search(x), x.leading_zeros(), "{x}");
+            }
+        }
+        assert_eq!(clz32_search(0), 32);
+        let mut r = rng(29);
+        for _ in 0..100_000 {
+            let x = (r() as u32) >> (r() % 32);
+            assert_eq!(clz32_search(x), x.leading_zeros(), "{x}");
         }
     }
 
