@@ -9,7 +9,7 @@
 //! in an i64; grazing hits far away keep their precision.
 
 use crate::scalar::{shr_round, FixedDir, FixedRow, Scalar};
-use crate::wide::{mul_i32, mul_i64, mul_u64};
+use crate::wide::{div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u64};
 use fixed::types::I16F16;
 
 /// Bits needed for `x` (0 for 0).
@@ -56,7 +56,8 @@ fn ratio(n: i64, den: i64, e: u32) -> i64 {
         i32::MAX as u64 + 1
     } else {
         let num = nu << e;
-        (num + du / 2) / du
+        // du is at most 2^32 after the cut: the reciprocal division on the M0.
+        div_rem_u64(num + du / 2, du).0
     };
     let q = q.min(i32::MAX as u64 + 1) as i64;
     if neg {
@@ -92,14 +93,15 @@ fn q16(x: i64) -> I16F16 {
 pub(crate) fn unit_mantissas(d: [i64; 3]) -> Option<[i64; 3]> {
     // Each square of an i32 is below 2^62: the sum fits a u64.
     let sq: u64 = d.iter().map(|&x| mul_i32(x as i32, x as i32) as u64).sum();
-    let l = crate::wide::isqrt_u64(sq);
+    let l = isqrt_rem_u64(sq).0;
     if l == 0 {
         return None;
     }
     // |x| <= l keeps each component within 2^30; the reciprocal 2^61 / l fits
     // 32 bits where l > 2^29 (callers scale their vectors up to make it so).
     Some(if l > 1 << 29 {
-        let recip = (1u64 << 61) / l;
+        // l < 2^32 (sq < 2^64) and the quotient fits 32 bits: the fast division.
+        let recip = div_rem_u64_u32(1 << 61, l as u32).0;
         d.map(|x| {
             let q = ((mul_u64(x.unsigned_abs(), recip) + (1 << 30)) >> 31) as i64;
             if x < 0 {

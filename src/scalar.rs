@@ -19,7 +19,7 @@
 //! * The Q16.16 per-ray operations use only integer instructions.
 
 use crate::film::{FilmMapDesc, FixedFilmMap, FloatFilmMap};
-use crate::wide::{isqrt_u64, mul_i32, mul_i64, mul_u32, mul_u64};
+use crate::wide::{div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i64, mul_u32, mul_u64, Recip};
 use fixed::types::I16F16;
 
 mod sealed {
@@ -237,21 +237,36 @@ impl FixedDir {
     /// `|self|` as a mantissa below 2^32 at scale `2^e`.
     fn length(&self) -> u64 {
         let sq: u64 = self.m.iter().map(|&c| mul_i64(c, c) as u64).sum();
-        let l = isqrt_u64(sq);
-        if sq - mul_u64(l, l) > l {
-            l + 1
-        } else {
-            l
-        }
+        isqrt_round_u64(sq)
     }
 }
 
-/// `n / d` rounded to nearest (ties away from zero), for `d != 0`, in i64.
+/// `n / d` rounded to nearest (ties away from zero), for `d != 0`, in i64:
+/// through [`Recip`] when `|d|` fits 32 bits.
 #[inline]
 pub(crate) fn div_round_i64(n: i64, d: i64) -> i64 {
-    let (nu, du) = (n.unsigned_abs(), d.unsigned_abs());
+    let du = d.unsigned_abs();
+    if du >> 32 == 0 {
+        return div_round_i64_by(n, &Recip::new(du as u32), d < 0);
+    }
+    let nu = n.unsigned_abs();
     let q = (nu / du + u64::from(nu % du >= du - du / 2)) as i64;
     if (n < 0) != (d < 0) {
+        -q
+    } else {
+        q
+    }
+}
+
+/// `n / d` rounded to nearest (ties away from zero), exactly as
+/// [`div_round_i64`], for the divisor `d = ±r.divisor()` with the sign
+/// `d_neg`: several divisions by one `d` compute its reciprocal once.
+#[inline]
+pub(crate) fn div_round_i64_by(n: i64, r: &Recip, d_neg: bool) -> i64 {
+    let (q, rem) = r.div_rem(n.unsigned_abs());
+    let d = r.divisor();
+    let q = (q + u64::from(rem >= d - d / 2)) as i64;
+    if (n < 0) != d_neg {
         -q
     } else {
         q
@@ -452,7 +467,8 @@ impl Scalar for I16F16 {
         }
         // Round to nearest on magnitudes, then restore the sign.
         let (n, d) = ((a << 16).unsigned_abs(), b.unsigned_abs());
-        let q = ((n + d / 2) / d) as i64;
+        // d <= 2^31 fits the 32-bit divisor.
+        let q = div_rem_u64_u32(n + d / 2, d as u32).0 as i64;
         let q = if (a < 0) != (b < 0) { -q } else { q };
         I16F16::from_bits(sat32(q))
     }
@@ -471,9 +487,7 @@ impl Scalar for I16F16 {
             return I16F16::ZERO;
         }
         // sqrt(b / 2^16) * 2^16 = sqrt(b * 2^16), rounded to nearest.
-        let n = (b as u64) << 16;
-        let r = isqrt_u64(n);
-        let r = if n - mul_u64(r, r) > r { r + 1 } else { r };
+        let r = isqrt_round_u64((b as u64) << 16);
         I16F16::from_bits(r as i32)
     }
     fn powf(self, e: Self) -> Self {
@@ -508,8 +522,7 @@ impl Scalar for I16F16 {
             })
             .sum();
         // sqrt of a Q32.32 sum is the Q16.16 length; rounded.
-        let r = isqrt_u64(s);
-        let r = if s - mul_u64(r, r) > r { r + 1 } else { r };
+        let r = isqrt_round_u64(s);
         I16F16::from_bits(sat32(r as i64))
     }
     fn normalize3(v: [Self; 3]) -> ([Self; 3], Self) {
@@ -519,7 +532,8 @@ impl Scalar for I16F16 {
             return ([I16F16::ZERO; 3], I16F16::ZERO);
         }
         // One division for a Q2.46-ish reciprocal, then three exact-enough multiplies.
-        let recip = (1i64 << 46) / l;
+        // 0 < l < 2^31 fits the 32-bit divisor.
+        let recip = div_rem_u64_u32(1 << 46, l as u32).0 as i64;
         let unit = v.map(|x| {
             let p = mul_i64(x.to_bits() as i64, recip);
             I16F16::from_bits(sat32(shr_round(p, 30)))
@@ -608,7 +622,7 @@ impl Scalar for I16F16 {
         }
         // Unit components in Q16.16, rounded: x · 2^16 / l, through one
         // reciprocal 2^62 / l; |x| <= l keeps x · recip below 2^62.
-        let recip = (1u64 << 62) / l;
+        let recip = div_rem_u64(1 << 62, l).0;
         let unit = d.m.map(|c| {
             let q = ((mul_u64(c.unsigned_abs(), recip) + (1 << 45)) >> 46) as i64;
             I16F16::from_bits(sat32(if c < 0 { -q } else { q }))
@@ -676,8 +690,10 @@ impl Scalar for I16F16 {
         acc + x.to_bits() as i64
     }
     fn acc_mean(acc: i64, n: u32) -> Self {
-        let n = n.max(1) as i64;
-        let q = if acc >= 0 { (acc + n / 2) / n } else { (acc - n / 2) / n };
+        let n = n.max(1);
+        // Rounded on the magnitude: (acc - n/2) / n truncates towards zero.
+        let q = div_rem_u64_u32(acc.unsigned_abs() + (n / 2) as u64, n).0 as i64;
+        let q = if acc < 0 { -q } else { q };
         I16F16::from_bits(sat32(q))
     }
     #[inline]

@@ -109,53 +109,381 @@ pub(crate) fn mul_u64(a: u64, b: u64) -> u64 {
     }
 }
 
-/// Integer square root of a u32 (floor), one result bit per step.
-#[inline]
-fn isqrt_u32(n: u32) -> u32 {
-    let mut rem = n;
-    let mut root = 0u32;
-    let mut bit = if n == 0 {
-        0
-    } else {
-        1u32 << ((31 - n.leading_zeros()) & !1)
-    };
-    while bit != 0 {
-        if rem >= root + bit {
-            rem -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
-        }
-        bit >>= 2;
+/// Leading zeros of a u32 by binary search, inline: on a Cortex-M0 (no
+/// `CLZ`) `leading_zeros` calls `__clzsi2`, some 30 instructions.
+#[inline(always)]
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+fn clz32_search(mut x: u32) -> u32 {
+    if x == 0 {
+        return 32;
     }
-    root
+    let mut n = 0;
+    if x >> 16 == 0 {
+        n += 16;
+        x <<= 16;
+    }
+    if x >> 24 == 0 {
+        n += 8;
+        x <<= 8;
+    }
+    if x >> 28 == 0 {
+        n += 4;
+        x <<= 4;
+    }
+    if x >> 30 == 0 {
+        n += 2;
+        x <<= 2;
+    }
+    n + (!x >> 31)
 }
 
-/// Integer square root of a u64 (floor), exact.
-///
-/// The top bits go through the 32-bit method (32-bit operations only); the
-/// rest, one bit a step, by squaring the candidate with [`mul_u32`]: far
-/// fewer 64-bit operations than the 64-bit digit-by-digit method.
-pub(crate) fn isqrt_u64(n: u64) -> u64 {
-    if n >> 32 == 0 {
-        return isqrt_u32(n as u32) as u64;
+/// Leading zeros of a u32.
+#[inline(always)]
+fn clz32(x: u32) -> u32 {
+    #[cfg(lensray_v6m)]
+    {
+        clz32_search(x)
     }
-    // An even shift s that leaves n >> s below 2^32: isqrt(n) then lies in
-    // [r·2^h, (r + 1)·2^h) for r = isqrt(n >> s), h = s / 2.
-    let bits = 64 - n.leading_zeros();
-    let s = (bits - 31) & !1;
-    let h = s / 2;
-    let mut root = (isqrt_u32((n >> s) as u32) as u64) << h;
-    let mut j = h;
-    while j > 0 {
-        j -= 1;
-        let cand = root | (1 << j);
-        // cand < 2^32: its square is exact in a u64.
-        if mul_u32(cand as u32, cand as u32) <= n {
-            root = cand;
+    #[cfg(not(lensray_v6m))]
+    {
+        x.leading_zeros()
+    }
+}
+
+/// Rounded `1 / sqrt(x)` in Q1.15 at the middle of each interval
+/// `[i, i + 1) / 512` of x in [1/4, 1), i in 128..512: `round(sqrt(2^40 / (2i + 1)))`,
+/// at most 65408. Indexed by i directly (entries below 128 unused) so that
+/// no bounds check is needed.
+const RSQRT_T: [u16; 512] = {
+    let mut t = [0u16; 512];
+    let mut i = 128;
+    while i < 512 {
+        let q = (1u64 << 42) / (2 * i as u64 + 1);
+        // round(sqrt(q / 4)) from the floor of sqrt(q).
+        t[i] = q.isqrt().div_ceil(2) as u16;
+        i += 1;
+    }
+    t
+};
+
+/// Rounded `2^47 / d` at the middle of each of the 256 intervals
+/// `[256 + j, 257 + j) · 2^23` of a normalised divisor d: `round(2^24 / (256.5 + j))`.
+const RECIP_T: [u16; 256] = {
+    let mut t = [0u16; 256];
+    let mut j = 0;
+    while j < 256 {
+        let m = 513 + 2 * j as u32;
+        t[j] = (((1u32 << 25) + m / 2) / m) as u16;
+        j += 1;
+    }
+    t
+};
+
+/// `floor(sqrt(n))` and `n - floor(sqrt(n))^2` from an estimate `r` of the root
+/// within a few units (any `r` is exact, only slower).
+#[inline(always)]
+fn isqrt_fix_u32(n: u32, r: u32) -> (u32, u32) {
+    // The root of a u32 is below 2^16, so r · r never wraps.
+    let mut r = r.min(0xFFFF);
+    let mut sq = r * r;
+    while sq > n {
+        r -= 1;
+        sq -= 2 * r + 1;
+    }
+    let mut rem = n - sq;
+    while rem > 2 * r {
+        rem -= 2 * r + 1;
+        r += 1;
+    }
+    (r, rem)
+}
+
+/// `floor(sqrt(n))` and the remainder for u64, from an estimate within a few units.
+#[inline(always)]
+fn isqrt_fix_u64(n: u64, r: u64) -> (u64, u64) {
+    let mut r = r.min(0xFFFF_FFFF);
+    let mut sq = mul_u32(r as u32, r as u32);
+    while sq > n {
+        r -= 1;
+        sq -= 2 * r + 1;
+    }
+    let mut rem = n - sq;
+    while rem > 2 * r {
+        rem -= 2 * r + 1;
+        r += 1;
+    }
+    (r, rem)
+}
+
+/// An estimate of `floor(sqrt(n))` for `n > 0`, within 2 units.
+///
+/// Table start for `1/sqrt` of n scaled to [2^30, 2^32) and one Newton step
+/// for the root, with 32-bit products only.
+#[inline(always)]
+fn isqrt_estimate_u32(n: u32) -> u32 {
+    let k = clz32(n) / 2;
+    let nn = n << (2 * k);
+    // y0 ≈ 2^15 / sqrt(nn / 2^32), relative error below 2^-9.
+    let y0 = RSQRT_T[(nn >> 23) as usize] as u32;
+    // s0 ≈ sqrt(nn), within 2^-8.9; (nn >> 16) · y0 < 2^32.
+    let s0 = ((nn >> 16) * y0) >> 15;
+    // |nn - s0^2| < 2^24.1 even when s0^2 wraps a u32.
+    let res = nn.wrapping_sub(s0.wrapping_mul(s0)) as i32;
+    // Newton: s1 = s0 + res / (2 s0) ≈ s0 + res · y0 / 2^32, |(res >> 10) · y0| < 2^30.1.
+    let s1 = s0 as i32 + (((res >> 10) * y0 as i32) >> 22);
+    (s1.max(0) as u32) >> k
+}
+
+/// `(floor(sqrt(n)), n - floor(sqrt(n))^2)` for a u32, exact for every n:
+/// [`isqrt_estimate_u32`] corrected by squares.
+#[inline]
+fn isqrt_rem_u32(n: u32) -> (u32, u32) {
+    if n == 0 {
+        return (0, 0);
+    }
+    isqrt_fix_u32(n, isqrt_estimate_u32(n))
+}
+
+/// An estimate of `floor(sqrt(n))` for `n >= 2^32`, within 2 units.
+///
+/// n scaled to [2^62, 2^64): a table start for `1/sqrt`, one Newton step for
+/// it, the root `n · (1/sqrt n)` and one Newton step for the root: four
+/// 32 × 32 → 64-bit products (from halves on a Cortex-M0), 32-bit shifts only.
+#[inline(always)]
+fn isqrt_estimate_u64(n: u64) -> u32 {
+    let (hi, lo) = ((n >> 32) as u32, n as u32);
+    debug_assert!(hi != 0);
+    let k = clz32(hi) / 2;
+    // nn = n << 2k in 32-bit words (a variable u64 shift is a library call on the M0).
+    let (nh, nl) = if k == 0 {
+        (hi, lo)
+    } else {
+        ((hi << (2 * k)) | (lo >> (32 - 2 * k)), lo << (2 * k))
+    };
+    let nn = ((nh as u64) << 32) | nl as u64;
+    // y0 ≈ 2^15 / sqrt(x), x = nn / 2^64 in [1/4, 1); relative error below 2^-9.
+    let y0 = RSQRT_T[(nh >> 23) as usize] as u32;
+    // Newton for 1/sqrt: y1 = y0 (3 - x y0^2) / 2, in Q1.31; t = x y0^2 in Q2.30.
+    let t = (mul_u32(nh, y0 * y0) >> 32) as u32;
+    let h = 3 * (1u32 << 30) - t;
+    // y0 · h / 2^15 exactly, from two 16 × 16-bit products; below 2^32 (y1 < 2).
+    let y1 = ((y0 * (h >> 16)) << 1) + ((y0 * (h & 0xFFFF)) >> 15);
+    // s1 = x · y1 · 2^32 ≈ sqrt(nn), relative error about 2^-17.4, below 2^32.
+    let s1 = (mul_u32(nh, y1) >> 31) as u32;
+    // Newton for the root with 1/sqrt(nn) = y1 / 2^63: s2 = s1 + res · y1 / 2^64.
+    let res = nn.wrapping_sub(mul_u32(s1, s1)) as i64;
+    // |res| < 2^47.6, so |res| >> 16 fits a u32.
+    let c = (mul_u32((res.unsigned_abs() >> 16) as u32, y1) >> 48) as u32;
+    let s2 = if res < 0 { s1 - c } else { s1.saturating_add(c) };
+    s2 >> k
+}
+
+/// `(floor(sqrt(n)), n - floor(sqrt(n))^2)` for a u64, exact for every n.
+///
+/// Table start and Newton steps by products only (see
+/// [`isqrt_estimate_u64`]), then an exact correction by squares: some 150
+/// instructions on a Cortex-M0 where the bit-by-bit method took 500 or more.
+#[inline]
+pub(crate) fn isqrt_rem_u64(n: u64) -> (u64, u64) {
+    if n >> 32 == 0 {
+        let (r, rem) = isqrt_rem_u32(n as u32);
+        return (r as u64, rem as u64);
+    }
+    isqrt_fix_u64(n, isqrt_estimate_u64(n) as u64)
+}
+
+/// `sqrt(n)` rounded to nearest (no ties are possible), exact for every n.
+#[inline]
+pub(crate) fn isqrt_round_u64(n: u64) -> u64 {
+    let (r, rem) = isqrt_rem_u64(n);
+    // sqrt(n) > r + 1/2 exactly when n > r^2 + r.
+    if rem > r {
+        r + 1
+    } else {
+        r
+    }
+}
+
+/// An estimate of [`recip_word`]`(d)` from below, by at most 3, for `d >= 2^31`.
+///
+/// A table start (9 bits), a Newton step in 32-bit products and a
+/// full-width Newton step. Every rounding is downwards (Newton's step for a
+/// reciprocal never overshoots), so the estimate never exceeds the reciprocal.
+#[inline(always)]
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+fn recip_word_estimate(d: u32) -> u32 {
+    debug_assert!(d >> 31 == 1);
+    // x0 ≈ 2^47 / d, relative error below 2^-9; d >> 23 is in 256..512.
+    let x0 = RECIP_T[((d >> 23) & 0xFF) as usize] as u32;
+    // e = (2^47 - d · x0) / 2^24, |e| < 2^14.1, from two 16 × 16-bit products;
+    // the floors make it at most 2 too large.
+    let p = (((d >> 16) * x0) >> 8) + (((d & 0xFFFF) * x0) >> 24);
+    let e = (1i32 << 23) - p as i32;
+    // Newton: 2^64 / d ≈ x0 · 2^17 + x0 · e / 2^6, |e · x0| < 2^30.1; less 2^12
+    // (more than e's 2 · x0 / 2^6) to stay below the reciprocal.
+    let v1 = ((x0 as i64) << 17) + ((e * x0 as i32) >> 6) as i64 - (1i64 << 32) - (1 << 12);
+    let v1 = v1.max(0) as u32;
+    // e2 = 2^64 - d (2^32 + v1) in (0, 2^47); Newton: v += e2 / 2^32 + v1 · e2 / 2^64.
+    let e2 = ((d as u64) << 32).wrapping_neg() - mul_u32(d, v1);
+    let m = (e2 >> 32) as u32;
+    // v1 · m / 2^32 from two 16 × 16-bit products (m < 2^15).
+    let t = ((v1 >> 16) * m + (((v1 & 0xFFFF) * m) >> 16)) >> 16;
+    v1 + m + t
+}
+
+/// `floor((2^64 - 1) / d) - 2^32` for a normalised divisor `d >= 2^31`,
+/// exactly: the reciprocal of the 2-by-1 word division of Möller and
+/// Granlund (2011), from [`recip_word_estimate`] corrected by the remainder.
+#[inline]
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+fn recip_word(d: u32) -> u32 {
+    let mut v = recip_word_estimate(d);
+    // e = 2^64 - 1 - d (2^32 + v) >= 0 must drop below d.
+    let mut e = !((d as u64) << 32) - mul_u32(d, v);
+    while e >= d as u64 {
+        v += 1;
+        e -= d as u64;
+    }
+    v
+}
+
+/// `(u1 · 2^32 + u0) / d` and its remainder, for `d >= 2^31`, `u1 < d` and
+/// `v = recip_word(d)`: one 32 × 32 → 64-bit product and at most two
+/// corrections (Möller and Granlund 2011, algorithm 4).
+#[inline(always)]
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+fn div_2by1(u1: u32, u0: u32, d: u32, v: u32) -> (u32, u32) {
+    let q = mul_u32(v, u1).wrapping_add(((u1 as u64) << 32) | u0 as u64);
+    let mut q1 = ((q >> 32) as u32).wrapping_add(1);
+    let q0 = q as u32;
+    let mut r = u0.wrapping_sub(q1.wrapping_mul(d));
+    // q1 is one too large at most, or (rarely) one too small.
+    if r > q0 {
+        q1 = q1.wrapping_sub(1);
+        r = r.wrapping_add(d);
+    }
+    if r >= d {
+        q1 += 1;
+        r -= d;
+    }
+    (q1, r)
+}
+
+/// Exact division by a u32 through a precomputed reciprocal (multiplies
+/// only; the Cortex-M0 path of [`Recip`]). Several divisions by the same
+/// divisor pay for the reciprocal (some 100 instructions) once; each then
+/// costs one or two 32 × 32 → 64-bit products.
+#[derive(Copy, Clone, Debug)]
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+pub(crate) struct RecipMul {
+    /// The divisor.
+    d: u32,
+    /// `d << s`, at least 2^31.
+    dn: u32,
+    /// `recip_word(dn)`.
+    v: u32,
+    /// Leading zeros of d.
+    s: u32,
+}
+
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+impl RecipMul {
+    /// The reciprocal of `d`, for `d > 0`.
+    #[inline]
+    pub(crate) fn new(d: u32) -> RecipMul {
+        debug_assert!(d != 0, "division by zero");
+        let s = clz32(d);
+        let dn = d << s;
+        RecipMul {
+            d,
+            dn,
+            v: recip_word(dn),
+            s,
         }
     }
-    root
+
+    /// The divisor.
+    #[inline(always)]
+    pub(crate) fn divisor(&self) -> u32 {
+        self.d
+    }
+
+    /// `(n / d, n % d)` exactly, for every n (quotients of 32 bits or less
+    /// take one word step, larger ones two).
+    #[inline]
+    pub(crate) fn div_rem(&self, n: u64) -> (u64, u32) {
+        let (dn, v, s) = (self.dn, self.v, self.s);
+        let (hi, lo) = ((n >> 32) as u32, n as u32);
+        // n << s as three words n2:n1:n0; n2 < 2^s <= dn.
+        let (n2, n1, n0) = if s == 0 {
+            (0, hi, lo)
+        } else {
+            (hi >> (32 - s), (hi << s) | (lo >> (32 - s)), lo << s)
+        };
+        let (q1, r) = if n2 == 0 && n1 < dn {
+            (0, n1)
+        } else {
+            div_2by1(n2, n1, dn, v)
+        };
+        let (q0, r) = div_2by1(r, n0, dn, v);
+        (((q1 as u64) << 32) | q0 as u64, r >> s)
+    }
+}
+
+/// Division by a u32 with the hardware's or the runtime's `/` (targets with
+/// a divide instruction or fast 64-bit products); the API of [`RecipMul`].
+#[derive(Copy, Clone, Debug)]
+#[cfg_attr(lensray_v6m, allow(dead_code))]
+pub(crate) struct RecipDiv {
+    d: u32,
+}
+
+#[cfg_attr(lensray_v6m, allow(dead_code))]
+impl RecipDiv {
+    /// The divisor `d`, for `d > 0`.
+    #[inline(always)]
+    pub(crate) fn new(d: u32) -> RecipDiv {
+        RecipDiv { d }
+    }
+
+    /// The divisor.
+    #[inline(always)]
+    pub(crate) fn divisor(&self) -> u32 {
+        self.d
+    }
+
+    /// `(n / d, n % d)` exactly.
+    #[inline(always)]
+    pub(crate) fn div_rem(&self, n: u64) -> (u64, u32) {
+        let d = self.d as u64;
+        (n / d, (n % d) as u32)
+    }
+}
+
+/// A divisor prepared for exact division: [`RecipMul`] on a Cortex-M0,
+/// where a `u64 / u64` costs some 350 instructions; plain `/` elsewhere.
+#[cfg(lensray_v6m)]
+pub(crate) type Recip = RecipMul;
+/// A divisor prepared for exact division: [`RecipMul`] on a Cortex-M0,
+/// where a `u64 / u64` costs some 350 instructions; plain `/` elsewhere.
+#[cfg(not(lensray_v6m))]
+pub(crate) type Recip = RecipDiv;
+
+/// `(n / d, n % d)` exactly, for `d > 0`.
+#[inline]
+pub(crate) fn div_rem_u64_u32(n: u64, d: u32) -> (u64, u32) {
+    Recip::new(d).div_rem(n)
+}
+
+/// `(n / d, n % d)` exactly, for `d > 0`: through [`Recip`] when d fits 32 bits.
+#[inline]
+pub(crate) fn div_rem_u64(n: u64, d: u64) -> (u64, u64) {
+    if d >> 32 == 0 {
+        let (q, r) = div_rem_u64_u32(n, d as u32);
+        (q, r as u64)
+    } else {
+        (n / d, n % d)
+    }
 }
 
 #[cfg(test)]
@@ -170,6 +498,21 @@ mod tests {
             s ^= s << 25;
             s ^= s >> 27;
             s.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        }
+    }
+
+    #[test]
+    fn leading_zeros_by_search() {
+        for b in 0..32 {
+            for x in [1u32 << b, (1u32 << b) | 1, ((1u64 << (b + 1)) - 1) as u32] {
+                assert_eq!(clz32_search(x), x.leading_zeros(), "{x}");
+            }
+        }
+        assert_eq!(clz32_search(0), 32);
+        let mut r = rng(29);
+        for _ in 0..100_000 {
+            let x = (r() as u32) >> (r() % 32);
+            assert_eq!(clz32_search(x), x.leading_zeros(), "{x}");
         }
     }
 
@@ -224,22 +567,243 @@ mod tests {
         r
     }
 
+    /// Every result of `isqrt_rem_u64` against the oracle, with its remainder.
+    fn check_sqrt(n: u64) {
+        let r = isqrt_reference(n);
+        assert_eq!(isqrt_rem_u64(n), (r, n - r * r), "{n}");
+        let round = if n - r * r > r { r + 1 } else { r };
+        assert_eq!(isqrt_round_u64(n), round, "{n}");
+        if n >> 32 == 0 {
+            assert_eq!(isqrt_rem_u32(n as u32), (r as u32, (n - r * r) as u32), "{n}");
+        }
+    }
+
     #[test]
     fn square_root_is_exact() {
-        for n in 0..100_000u64 {
-            assert_eq!(isqrt_u64(n), isqrt_reference(n), "{n}");
+        for n in 0..300_000u64 {
+            check_sqrt(n);
         }
         // Around every square and at every width.
         let mut r = rng(11);
-        for _ in 0..200_000 {
+        for _ in 0..300_000 {
             let x = r() >> (r() % 64);
-            assert_eq!(isqrt_u64(x), isqrt_reference(x), "{x}");
-            let root = (r() >> 32).max(1);
+            check_sqrt(x);
+            let root = (r() >> (32 + r() % 32)).max(1);
             for n in [root * root - 1, root * root, root * root + 1] {
-                assert_eq!(isqrt_u64(n), isqrt_reference(n), "{n}");
+                check_sqrt(n);
             }
         }
-        assert_eq!(isqrt_u64(u64::MAX), 0xFFFF_FFFF);
-        assert_eq!(isqrt_u64(1 << 32), 1 << 16);
+        // Around every power of two and every table interval's ends.
+        for b in 0..64 {
+            let p = 1u64 << b;
+            for n in [p - 1, p, p + 1, p.wrapping_mul(3) / 2] {
+                check_sqrt(n);
+            }
+        }
+        for i in 128u64..=512 {
+            for shift in [0, 7, 23, 30, 33, 55] {
+                let edge = i << shift;
+                for n in [edge.wrapping_sub(1), edge, edge + 1] {
+                    check_sqrt(n);
+                }
+            }
+        }
+        let big = 0xFFFF_FFFFu64 * 0xFFFF_FFFF;
+        for n in [
+            0,
+            1,
+            2,
+            3,
+            4,
+            u64::MAX,
+            u64::MAX - 1,
+            1 << 32,
+            (1 << 32) - 1,
+            big - 1,
+            big,
+            big + 1,
+        ] {
+            check_sqrt(n);
+        }
+        assert_eq!(isqrt_rem_u64(u64::MAX), (0xFFFF_FFFF, 0x1_FFFF_FFFE));
+        assert_eq!(isqrt_rem_u64(1 << 32), (1 << 16, 0));
+    }
+
+    /// The estimates before the correction stay within their stated bounds
+    /// (the corrections are exact from any start, only slower).
+    #[test]
+    fn estimates_are_close() {
+        let mut r = rng(23);
+        for _ in 0..1_000_000 {
+            let n = r() >> (r() % 32);
+            let n = n.max(1 << 32);
+            let e = isqrt_estimate_u64(n) as i64 - isqrt_reference(n) as i64;
+            assert!(e.abs() <= 2, "{n}: {e}");
+            let n32 = ((r() >> 32) as u32 >> (r() % 32)).max(1);
+            let e = isqrt_estimate_u32(n32) as i64 - isqrt_reference(n32 as u64) as i64;
+            assert!(e.abs() <= 2, "{n32}: {e}");
+            let d = (r() as u32) | (1 << 31);
+            let v = (u64::MAX as u128 / d as u128 - (1u128 << 32)) as u32;
+            assert!((0..=3).contains(&(v - recip_word_estimate(d))), "{d}");
+        }
+        for n in [
+            u64::MAX,
+            u64::MAX - 1,
+            1 << 32,
+            (1 << 62) - 1,
+            1 << 62,
+            0xFFFF_FFFE_0000_0001,
+        ] {
+            let e = isqrt_estimate_u64(n) as i64 - isqrt_reference(n) as i64;
+            assert!(e.abs() <= 2, "{n}: {e}");
+        }
+    }
+
+    /// The 32-bit square root and its estimate, for every u32 (some four
+    /// billion; run with --ignored).
+    #[test]
+    #[ignore]
+    fn square_root_u32_exhaustive() {
+        let mut root = 0u32;
+        for n in 0..=u32::MAX {
+            if (root as u64 + 1) * (root as u64 + 1) <= n as u64 {
+                root += 1;
+            }
+            assert_eq!(isqrt_rem_u32(n), (root, n - root * root), "{n}");
+            if n > 0 {
+                assert!(isqrt_estimate_u32(n).abs_diff(root) <= 2, "{n}");
+            }
+        }
+    }
+    /// The word reciprocal's definition: `(2^32 + v) · d <= 2^64 - 1 < (2^32 + v + 1) · d`.
+    fn check_recip_word(d: u32) {
+        let v = recip_word(d);
+        let want = (u64::MAX as u128 / d as u128 - (1u128 << 32)) as u32;
+        assert_eq!(v, want, "d = {d:#x}");
+    }
+
+    #[test]
+    fn word_reciprocal_is_exact() {
+        for d in (1u32 << 31)..(1u32 << 31) + 100_000 {
+            check_recip_word(d);
+        }
+        for d in (u32::MAX - 100_000)..=u32::MAX {
+            check_recip_word(d);
+        }
+        // Each table interval's ends, and a stride through the whole range.
+        for j in 256u32..512 {
+            for d in [(j << 23), (j << 23) + 1, (j << 23).wrapping_add((1 << 23) - 1)] {
+                check_recip_word(d.max(1 << 31));
+            }
+        }
+        let mut d = 1u32 << 31;
+        while let Some(next) = d.checked_add(4099) {
+            check_recip_word(d);
+            d = next;
+        }
+        let mut r = rng(13);
+        for _ in 0..200_000 {
+            check_recip_word((r() as u32) | (1 << 31));
+        }
+    }
+
+    /// Every normalised divisor (some two billion; run with --ignored).
+    #[test]
+    #[ignore]
+    fn word_reciprocal_exhaustive() {
+        for d in (1u32 << 31)..=u32::MAX {
+            check_recip_word(d);
+            assert!(recip_word(d) - recip_word_estimate(d) <= 3, "{d}");
+        }
+    }
+
+    /// `RecipMul`, `Recip`, `div_rem_u64_u32` and `div_rem_u64` against `/` and `%`.
+    fn check_div(n: u64, d: u32) {
+        let want = (n / d as u64, (n % d as u64) as u32);
+        let r = RecipMul::new(d);
+        assert_eq!(r.div_rem(n), want, "{n} / {d}");
+        assert_eq!(r.divisor(), d);
+        assert_eq!(Recip::new(d).div_rem(n), want, "{n} / {d}");
+        assert_eq!(div_rem_u64_u32(n, d), want, "{n} / {d}");
+        assert_eq!(div_rem_u64(n, d as u64), (want.0, want.1 as u64), "{n} / {d}");
+    }
+
+    #[test]
+    fn division_is_exact() {
+        // Exhaustive small ranges.
+        for d in 1u32..300 {
+            for n in 0u64..2000 {
+                check_div(n, d);
+            }
+        }
+        let mut r = rng(17);
+        // Every divisor width, with random and edge numerators.
+        for bits in 1..=32u32 {
+            let lo = 1u64 << (bits - 1);
+            for _ in 0..3000 {
+                let d = (lo + r() % lo) as u32;
+                let d = if r() & 7 == 0 { lo as u32 } else { d };
+                let d = if r() & 7 == 0 { ((lo << 1) - 1) as u32 } else { d };
+                let dd = d as u64;
+                let below = (dd << 32) - 1;
+                for n in [
+                    0,
+                    1,
+                    dd - 1,
+                    dd,
+                    dd + 1,
+                    below,
+                    below - dd,
+                    dd << 31,
+                    u64::MAX,
+                    u64::MAX - 1,
+                ] {
+                    check_div(n, d);
+                }
+                // Quotients of every width, up to 64 bits.
+                check_div(r() >> (r() % 64), d);
+                check_div(r() % (below + 1), d);
+                // Exact multiples and their neighbours.
+                let q = r() % (1 << 32);
+                let m = q * dd;
+                for n in [m.wrapping_sub(1), m, m + 1, m + dd - 1] {
+                    check_div(n, d);
+                }
+            }
+        }
+        // Powers of two.
+        for a in 0..32 {
+            for b in 0..64 {
+                let d = 1u32 << a;
+                for n in [(1u64 << b) - 1, 1 << b, (1u64 << b) + 1] {
+                    check_div(n, d);
+                }
+            }
+        }
+        for _ in 0..1_000_000 {
+            let d = ((r() >> 32) as u32 >> (r() % 32)).max(1);
+            check_div(r() >> (r() % 64), d);
+        }
+        // Wide divisors go through `/`.
+        for _ in 0..10_000 {
+            let (n, d) = (r(), (r() >> (r() % 32)).max(1 << 32));
+            assert_eq!(div_rem_u64(n, d), (n / d, n % d));
+        }
+    }
+
+    /// One reciprocal, many dividends.
+    #[test]
+    fn reciprocal_reused() {
+        let mut r = rng(19);
+        for _ in 0..2000 {
+            let d = ((r() >> 32) as u32 >> (r() % 32)).max(1);
+            let (m, p) = (RecipMul::new(d), Recip::new(d));
+            for _ in 0..100 {
+                let n = r() >> (r() % 64);
+                let want = (n / d as u64, (n % d as u64) as u32);
+                assert_eq!(m.div_rem(n), want, "{n} / {d}");
+                assert_eq!(p.div_rem(n), want, "{n} / {d}");
+            }
+        }
     }
 }
