@@ -86,6 +86,8 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     fn normalize3(v: [Self; 3]) -> ([Self; 3], Self);
     /// `|v|² <= r²`, decided exactly (no intermediate overflow).
     fn within(v: [Self; 3], r: Self) -> bool;
+    /// `a · b > 0`, decided exactly for Q16.16 (no rounding, no saturation).
+    fn dot_positive(a: [Self; 3], b: [Self; 3]) -> bool;
 
     /// Builds a matrix row `(a, b, c, t)` from its exact `f64` entries.
     fn row_from_f64(r: [f64; 4]) -> Self::Row;
@@ -540,6 +542,14 @@ impl Scalar for I16F16 {
         });
         (unit, len)
     }
+    #[inline]
+    fn dot_positive(a: [Self; 3], b: [Self; 3]) -> bool {
+        // Three exact products below 2^62 each: the i64 sum cannot overflow.
+        mul_i32(a[0].to_bits(), b[0].to_bits())
+            + mul_i32(a[1].to_bits(), b[1].to_bits())
+            + mul_i32(a[2].to_bits(), b[2].to_bits())
+            > 0
+    }
     fn within(v: [Self; 3], r: Self) -> bool {
         let s: u64 = v
             .iter()
@@ -834,6 +844,10 @@ impl Scalar for f32 {
     fn within(v: [Self; 3], r: Self) -> bool {
         v[0] * v[0] + v[1] * v[1] + v[2] * v[2] <= r * r
     }
+    #[inline]
+    fn dot_positive(a: [Self; 3], b: [Self; 3]) -> bool {
+        a[0] * b[0] + a[1] * b[1] + a[2] * b[2] > 0.0
+    }
     fn row_from_f64(r: [f64; 4]) -> [f32; 4] {
         r.map(|x| x as f32)
     }
@@ -973,6 +987,56 @@ mod mul_tests {
             assert_eq!(mul_q16_small(a, b), Some(mul_q16_wide(a, b)), "{a} * {b}");
         }
         assert!(small > 100_000, "the small path was taken {small} times");
+    }
+}
+
+#[cfg(test)]
+mod dot_sign_tests {
+    use super::*;
+
+    /// The sign of a dot product, exactly: where the rounded products would
+    /// cancel to zero or flip it, and at the ends of the range.
+    #[test]
+    fn dot_sign_is_exact() {
+        let q = |x: i32| I16F16::from_bits(x);
+        let cases = [
+            // 1·2^-16 · 2^-16 survives although each rounded product is 0.
+            ([1, 0, 0], [1, 0, 0], true),
+            ([1, 0, 0], [-1, 0, 0], false),
+            ([0; 3], [5, 6, 7], false),
+            // 3·2^-32 − 2·2^-32 > 0, with rounded products 0 − 0.
+            ([3, 2, 0], [1, -1, 0], true),
+            ([2, 3, 0], [1, -1, 0], false),
+            // Saturating sums would clip both to the same value.
+            ([i32::MAX, i32::MIN, 0], [i32::MAX, i32::MAX, 0], false),
+            ([i32::MAX, i32::MIN + 1, 0], [i32::MAX, i32::MAX, 0], false),
+            ([i32::MAX, i32::MIN + 2, 0], [i32::MAX, i32::MAX, 0], true),
+        ];
+        for (a, b, want) in cases {
+            let exact: i128 = (0..3).map(|i| a[i] as i128 * b[i] as i128).sum();
+            assert_eq!(exact > 0, want, "{a:?} · {b:?}");
+            assert_eq!(
+                <I16F16 as Scalar>::dot_positive(a.map(q), b.map(q)),
+                want,
+                "{a:?} · {b:?}"
+            );
+        }
+        let mut s = 0x2545_F491u32;
+        for _ in 0..100_000 {
+            let mut next = || {
+                s ^= s << 13;
+                s ^= s >> 17;
+                s ^= s << 5;
+                (s as i32) >> (s % 31)
+            };
+            let (a, b) = ([next(), next(), next()], [next(), next(), next()]);
+            let exact: i128 = (0..3).map(|i| a[i] as i128 * b[i] as i128).sum();
+            assert_eq!(
+                <I16F16 as Scalar>::dot_positive(a.map(q), b.map(q)),
+                exact > 0,
+                "{a:?} · {b:?}"
+            );
+        }
     }
 }
 

@@ -534,7 +534,7 @@ impl<S: Scalar> Scene<S> {
             let to_light = light.position - p;
             // A light behind the surface needs no normalising (in Program 1, the
             // lamp under the floor for every floor pixel).
-            if n.dot(to_light) <= S::ZERO {
+            if !S::dot_positive(n.to_array(), to_light.to_array()) {
                 continue;
             }
             let (l, dist) = to_light.normalize_len();
