@@ -114,6 +114,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         &self.camera
     }
 
+    /// The objects each of this camera's rays can reach (see [`LensCones`]).
+    pub fn cones(&self) -> &LensCones<S> {
+        &self.cones
+    }
+
     /// Rays cast per pixel: 1 for a pinhole camera, else the sample count
     /// (with adaptive sampling, the most a pixel casts).
     pub fn rays_per_pixel(&self) -> u32 {

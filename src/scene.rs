@@ -457,6 +457,13 @@ impl<S: Scalar> Scene<S> {
         self.closest_hit_culled(o, d, precise, t_min, None)
     }
 
+    /// The nearest object hit by a camera ray (which leaves the lens: see
+    /// [`LensCones`]): [`Scene::closest_hit_dir`] with the objects out of the
+    /// ray's reach skipped.
+    pub fn closest_hit_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Option<(usize, Hit<S>)> {
+        self.closest_hit_culled(ray.origin, ray.dir, ray.precise, S::EPSILON, Some(cones))
+    }
+
     /// As [`Scene::closest_hit_dir`], skipping the objects a ray from the
     /// lens cannot reach where `cones` is given.
     fn closest_hit_culled(

@@ -5,9 +5,11 @@
 //!
 //! It walks every pixel the way [`lensray::Renderer`] does (the same lens
 //! samples, the same rays) and times, through the library's public API:
-//! the lens sample, the camera ray, each object's intersection (by shape, hit
-//! or miss, with the nearest hit so far as the limit, as `closest_hit` does),
-//! the normal at the hit, the whole nearest-hit search and the whole trace.
+//! the lens sample, the camera ray, each object's cone test (whether the ray
+//! can reach it at all, see `lensray::cull`), the intersection of each object
+//! the cone lets through (by shape, hit or miss, with the nearest hit so far
+//! as the limit, as the renderer's nearest-hit search does), the normal at
+//! the hit, the whole nearest-hit search and the whole trace.
 //! Shading is the trace less the nearest-hit search. The cost of each light
 //! comes from further passes with the lights removed one by one from the end:
 //! light k costs what the trace with k lights costs more than with k - 1.
@@ -50,6 +52,8 @@ fn shape_index(s: Shape) -> usize {
 struct Stats {
     sample: Stat,
     ray: Stat,
+    cone: Stat,
+    culled: u64,
     hit: [Stat; SHAPES],
     miss: [Stat; SHAPES],
     normal: Stat,
@@ -115,9 +119,18 @@ pub fn run<S: Scalar>(
                     };
                     st.ray.add(t);
                     let (o, d, precise) = (ray.origin, ray.dir, ray.precise);
-                    // Each object as closest_hit meets it: limited by the nearest hit so far.
+                    let cones = renderer.cones();
+                    // Each object as the nearest-hit search meets it: first its cone,
+                    // then, if the ray can reach it, the intersection limited by the
+                    // nearest hit so far.
                     let mut best: Option<(usize, lensray::scene::Hit<S>)> = None;
                     for (i, obj) in scene.objects.iter().enumerate() {
+                        let (reach, t) = time(counter, ov, || cones.may_reach(i, d));
+                        st.cone.add(t);
+                        if !reach {
+                            st.culled += 1;
+                            continue;
+                        }
                         let t_max = best.map_or(S::MAX, |(_, h)| h.t);
                         let (h, t) = time(counter, ov, || obj.intersect_dir(o, d, precise, S::EPSILON, t_max));
                         let k = shape_index(obj.shape);
@@ -133,9 +146,9 @@ pub fn run<S: Scalar>(
                         let (_, t) = time(counter, ov, || scene.objects[i].normal(&h, d));
                         st.normal.add(t);
                     }
-                    let (_, t) = time(counter, ov, || scene.closest_hit_dir(o, d, precise, S::EPSILON));
+                    let (_, t) = time(counter, ov, || scene.closest_hit_camera_ray(&ray, cones));
                     st.closest.add(t);
-                    let (_, t) = time(counter, ov, || scene.trace_dir(o, d, precise));
+                    let (_, t) = time(counter, ov, || scene.trace_camera_ray(&ray, cones));
                     st.trace.add(t);
                     if best.is_some() {
                         st.trace_hit.add(t);
@@ -166,7 +179,7 @@ pub fn run<S: Scalar>(
                     } else {
                         cam.lens_ray_from(&film, cam.lens_sample(&mut lfsr))
                     };
-                    let (_, t) = time(counter, ov, || scene.trace_dir(ray.origin, ray.dir, ray.precise));
+                    let (_, t) = time(counter, ov, || scene.trace_camera_ray(&ray, renderer.cones()));
                     sum += t;
                 }
             }
@@ -183,6 +196,9 @@ pub fn run<S: Scalar>(
     line("pixel", st.pixel.calls, st.pixel.ticks);
     line("lens-sample", st.sample.calls, st.sample.ticks);
     line("camera-ray", st.ray.calls, st.ray.ticks);
+    line("cone-test", st.cone.calls, st.cone.ticks);
+    // Calls only (no time of their own): the objects the cone test skipped.
+    line("culled-objects", st.culled, 0);
     for (k, (name, _)) in Shape::ALL.iter().enumerate() {
         if st.hit[k].calls + st.miss[k].calls > 0 {
             let mut buf = [0u8; 32];
