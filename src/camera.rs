@@ -161,7 +161,7 @@ impl<S: Scalar> Camera<S> {
     }
 
     /// The next lens point (Q1.15, within the unit circle) from a pixel's
-    /// register, uniform on the aperture: integers only, as [`Camera::lens_ray`] takes it.
+    /// register, uniform on the aperture: integers only, as [`Camera::lens_ray_from`] takes it.
     #[inline]
     pub fn lens_sample(&self, lfsr: &mut Lfsr) -> (i32, i32) {
         self.aperture.sample(lfsr)
