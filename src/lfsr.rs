@@ -18,6 +18,27 @@
 /// (maximal: period 2³² − 1).
 pub const TAPS: u32 = 0x8020_0003;
 
+/// Eight clocks of the register started at each byte value: the register is
+/// linear and its upper bits only shift for eight clocks, so eight clocks of
+/// any state are `(state >> 8) ^ BYTE_CLOCKS[state & 0xFF]` (the CRC table trick).
+const BYTE_CLOCKS: [u32; 256] = {
+    let mut t = [0u32; 256];
+    let mut v = 0;
+    while v < 256 {
+        let mut s = v as u32;
+        let mut k = 0;
+        while k < 8 {
+            let lsb = s & 1;
+            s >>= 1;
+            s ^= lsb.wrapping_neg() & TAPS;
+            k += 1;
+        }
+        t[v] = s;
+        v += 1;
+    }
+    t
+};
+
 /// A 32-bit Galois LFSR. Its state is never 0.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Lfsr {
@@ -61,11 +82,20 @@ impl Lfsr {
         self.state
     }
 
+    /// Clocks the register eight times, by table.
+    #[inline]
+    pub fn step8(&mut self) -> u32 {
+        self.state = (self.state >> 8) ^ BYTE_CLOCKS[(self.state & 0xFF) as usize];
+        self.state
+    }
+
     /// 16 fresh bits: clocks 32 times so the draw shares no bit with the last one.
     #[inline]
     pub fn next_u16(&mut self) -> u16 {
-        for _ in 0..32 {
-            self.step();
+        // Four table steps of eight clocks each: a tenth of the instructions of
+        // 32 single clocks on a Cortex-M0, the same states.
+        for _ in 0..4 {
+            self.step8();
         }
         (self.state >> 16) as u16
     }
@@ -90,6 +120,27 @@ impl Lfsr {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn eight_clocks_by_table_equal_eight_single_clocks() {
+        let mut seed = 0x1234_5678u32;
+        for n in 0..100_000u32 {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let start = if n < 256 { n.max(1) } else { seed | 1 };
+            let (mut a, mut b) = (Lfsr::new(start), Lfsr::new(start));
+            for _ in 0..8 {
+                a.step();
+            }
+            assert_eq!(b.step8(), a.state(), "from {start:#x}");
+            // And a draw is 32 single clocks.
+            let (mut c, mut d) = (Lfsr::new(start), Lfsr::new(start));
+            for _ in 0..32 {
+                c.step();
+            }
+            assert_eq!(d.next_u16(), (c.state() >> 16) as u16, "from {start:#x}");
+            assert_eq!(d, c);
+        }
+    }
 
     #[test]
     fn period_is_maximal() {
