@@ -9,13 +9,13 @@
 //! in an i64; grazing hits far away keep their precision.
 
 use crate::scalar::{shr_round, FixedDir, FixedRow, Scalar};
-use crate::wide::{div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u64};
+use crate::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u64};
 use fixed::types::I16F16;
 
 /// Bits needed for `x` (0 for 0).
 #[inline]
 fn bits(x: u64) -> u32 {
-    64 - x.leading_zeros()
+    bits_u64(x)
 }
 
 /// `row · m` exactly, at scale `2^-(30 + row.shift)` for mantissas at `2^-30`.

@@ -19,7 +19,7 @@
 //! * The Q16.16 per-ray operations use only integer instructions.
 
 use crate::film::{FilmMapDesc, FixedFilmMap, FloatFilmMap};
-use crate::wide::{div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i64, mul_u32, mul_u64, Recip};
+use crate::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i64, mul_u32, mul_u64, Recip};
 use fixed::types::I16F16;
 
 mod sealed {
@@ -203,7 +203,7 @@ impl FixedDir {
     #[inline]
     fn from_i64(w: [i64; 3], e: i32) -> FixedDir {
         let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
-        let k = (64 - big.leading_zeros()).saturating_sub(31);
+        let k = bits_u64(big).saturating_sub(31);
         let m = if k == 0 {
             w
         } else {
@@ -621,7 +621,7 @@ impl Scalar for I16F16 {
         // The exact product as mantissas x at scale 2^e, cut to 21 bits: the
         // unit vector needs 17, and the square root's cost grows with the width.
         let mut d = FixedDir::exact_rows(rows, v.map(|x| x.to_bits() as i64), false, 0);
-        let cut = (64 - d.m.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0).leading_zeros()).saturating_sub(21);
+        let cut = bits_u64(d.m.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0)).saturating_sub(21);
         if cut > 0 {
             d.m = d.m.map(|x| ((x >> (cut - 1)) + 1) >> 1);
             d.e += cut as i32;

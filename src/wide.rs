@@ -137,6 +137,18 @@ fn clz32_search(mut x: u32) -> u32 {
     n + (!x >> 31)
 }
 
+/// Bits needed for a u64 (0 for 0): `64 - leading_zeros`, without a library
+/// call on the Cortex-M0.
+#[inline(always)]
+pub(crate) fn bits_u64(x: u64) -> u32 {
+    let hi = (x >> 32) as u32;
+    if hi != 0 {
+        64 - clz32(hi)
+    } else {
+        32 - clz32(x as u32)
+    }
+}
+
 /// Leading zeros of a u32.
 #[inline(always)]
 fn clz32(x: u32) -> u32 {
@@ -498,6 +510,18 @@ mod tests {
             s ^= s << 25;
             s ^= s >> 27;
             s.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        }
+    }
+
+    #[test]
+    fn bits_of_u64() {
+        for x in [0u64, 1, 2, 3, 0xFFFF_FFFF, 1 << 32, (1 << 32) + 1, u64::MAX, 1 << 63] {
+            assert_eq!(bits_u64(x), 64 - x.leading_zeros(), "{x:#x}");
+        }
+        let mut r = rng(5);
+        for _ in 0..100_000 {
+            let x = r() >> (r() % 64);
+            assert_eq!(bits_u64(x), 64 - x.leading_zeros(), "{x:#x}");
         }
     }
 
