@@ -320,7 +320,9 @@ fn mul_q16_small(a: i32, b: i32) -> Option<i32> {
 /// Rounds `x / 2^s` to nearest (ties up), for `0 < s < 63`.
 #[inline]
 pub(crate) fn shr_round(x: i64, s: u32) -> i64 {
-    (x >> s) + ((x >> (s - 1)) & 1)
+    // One variable shift (a library call on the M0), then the last bit by hand.
+    let r = x >> (s - 1);
+    (r >> 1) + (r & 1)
 }
 
 /// `log2(x)` of a Q16.16 raw value `x > 0`, in Q16.16.
@@ -987,6 +989,30 @@ mod mul_tests {
             assert_eq!(mul_q16_small(a, b), Some(mul_q16_wide(a, b)), "{a} * {b}");
         }
         assert!(small > 100_000, "the small path was taken {small} times");
+    }
+}
+
+#[cfg(test)]
+mod shift_tests {
+    use super::*;
+
+    #[test]
+    fn rounding_shift_is_nearest_with_ties_up() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        for _ in 0..100_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let v = (x as i64) >> (x % 64);
+            for s in [1u32, 2, 14, 16, 30, 31, 32, 45, 62] {
+                let want = ((v as i128 + (1i128 << (s - 1))) >> s) as i64;
+                assert_eq!(shr_round(v, s), want, "{v} >> {s}");
+            }
+        }
+        assert_eq!(shr_round(-3, 1), -1, "-1.5 goes up to -1");
+        assert_eq!(shr_round(3, 1), 2, "1.5 goes up to 2");
+        assert_eq!(shr_round(i64::MAX, 62), 2);
+        assert_eq!(shr_round(i64::MIN, 62), -2);
     }
 }
 
