@@ -19,7 +19,9 @@
 //! * The Q16.16 per-ray operations use only integer instructions.
 
 use crate::film::{FilmMapDesc, FixedFilmMap, FloatFilmMap};
-use crate::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i64, mul_u32, mul_u64, Recip};
+use crate::wide::{
+    bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i64, mul_u32, mul_u64, sar64, Recip,
+};
 use fixed::types::I16F16;
 
 mod sealed {
@@ -321,7 +323,7 @@ fn mul_q16_small(a: i32, b: i32) -> Option<i32> {
 #[inline]
 pub(crate) fn shr_round(x: i64, s: u32) -> i64 {
     // One variable shift (a library call on the M0), then the last bit by hand.
-    let r = x >> (s - 1);
+    let r = sar64(x, s - 1);
     (r >> 1) + (r & 1)
 }
 

@@ -149,6 +149,35 @@ pub(crate) fn bits_u64(x: u64) -> u32 {
     }
 }
 
+/// `x >> s` (arithmetic) for `s < 64` from 32-bit shifts, inline: on a
+/// Cortex-M0 a variable 64-bit shift is a call to `__aeabi_lasr`.
+#[inline(always)]
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+pub(crate) fn sar64_words(x: i64, s: u32) -> i64 {
+    let (lo, hi) = (x as u32, (x >> 32) as i32);
+    if s >= 32 {
+        (hi >> (s - 32)) as i64
+    } else if s == 0 {
+        x
+    } else {
+        let lo = (lo >> s) | ((hi as u32) << (32 - s));
+        (((hi >> s) as i64) << 32) | lo as i64
+    }
+}
+
+/// `x >> s` (arithmetic) for `s < 64`.
+#[inline(always)]
+pub(crate) fn sar64(x: i64, s: u32) -> i64 {
+    #[cfg(lensray_v6m)]
+    {
+        sar64_words(x, s)
+    }
+    #[cfg(not(lensray_v6m))]
+    {
+        x >> s
+    }
+}
+
 /// Leading zeros of a u32.
 #[inline(always)]
 fn clz32(x: u32) -> u32 {
@@ -511,6 +540,19 @@ mod tests {
             s ^= s >> 27;
             s.wrapping_mul(0x2545_F491_4F6C_DD1D)
         }
+    }
+
+    #[test]
+    fn shifts_from_words() {
+        let mut r = rng(9);
+        for _ in 0..100_000 {
+            let x = r() as i64;
+            for s in 0..64 {
+                assert_eq!(sar64_words(x, s), x >> s, "{x} >> {s}");
+            }
+        }
+        assert_eq!(sar64_words(i64::MIN, 63), -1);
+        assert_eq!(sar64_words(-1, 5), -1);
     }
 
     #[test]
