@@ -46,8 +46,9 @@
 //! ## Modules
 //!
 //! [`scalar`] (the number trait), [`vec3`], [`transform`], [`lfsr`],
-//! [`aperture`], [`camera`], [`autofocus`], [`progressive`], [`shape`], [`scene`],
-//! [`parse`], [`mod@render`].
+//! [`aperture`], [`camera`], [`film`] (a pixel's exact ray directions),
+//! [`cull`] (which objects a lens ray can reach), [`autofocus`],
+//! [`progressive`], [`shape`], [`scene`], [`parse`], [`mod@render`].
 
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
