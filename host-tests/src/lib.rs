@@ -59,8 +59,11 @@ pub fn render_image<S: Scalar + Send + Sync>(
     // Rows straight into the image: no per-row allocation, no copy at the end.
     let mut pixels = vec![Rgb888::BLACK; width as usize * height as usize];
     if width > 0 {
+        // One row a task: rayon otherwise stops splitting at a few chunks of
+        // many rows, and a small frame ends with one core finishing the last chunk.
         pixels
             .par_chunks_mut(width as usize)
+            .with_max_len(1)
             .enumerate()
             .for_each(|(row, out)| {
                 renderer.render_row(row as u32, out);
