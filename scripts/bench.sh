@@ -9,7 +9,8 @@
 # - a per-operation profile on the M0 (firmware feature `profile`);
 # - host rays per second (criterion, host-tests/benches/render.rs), one thread
 #   and all cores, with the machine's load, and the parallel speedup measured
-#   in pairs against the machine's own ceiling (host-tests/benches/speedup.rs).
+#   in pairs beside the machine's ceiling for the same work (whole frames side
+#   by side: host-tests/benches/speedup.rs).
 # Takes about 15-25 minutes on 2 cores (firmware builds with fat LTO dominate).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -161,7 +162,7 @@ step "writing $out"
   echo
   echo "- at most 8,000 instructions per pixel in Q16.16: $m0_fixed, **$floor_ins**;"
   echo "- f32 (software) at least 2.5 times the instructions of Q16.16: ${m0_ratio}x, **$floor_ratio**;"
-  echo "- host rows in parallel, speedup at least 1.8 on 2 cores: lowest ${min_speedup} (the paired medians of all four renders below; the machine's ceiling in the same rounds $ceilings), **$floor_speedup**."
+  echo "- host rows in parallel, speedup at least 1.8 on 2 cores: lowest ${min_speedup} (the paired medians of all four renders below; the ceiling, whole frames side by side in the same rounds: $ceilings), **$floor_speedup**."
   echo
   echo "## Where the Cortex-M0's instructions go (Program 1, Q16.16)"
   echo
@@ -212,10 +213,13 @@ step "writing $out"
   echo "\`cargo bench -p lensray-host --bench speedup\` (host-tests/benches/speedup.rs):"
   echo "$(paired "program1-160x120/Q16.16/pinhole" rounds) rounds a render, each rendering the frame for about 40 ms on one"
   echo "thread and as long on all $(paired "program1-160x120/Q16.16/pinhole" threads) cores, back to back, and"
-  echo "measuring the machine's *ceiling* the same way in the same round: equal spins"
-  echo "of arithmetic that share nothing, one after another or one a core. The"
-  echo "*efficiency* is a round's speedup over its ceiling. Medians over the rounds;"
-  echo "*best* is the fastest one-thread batch over the fastest all-cores batch."
+  echo "measuring the *ceiling* in the same round: as many whole frames, each"
+  echo "rendered row after row by one thread, one after another on one thread or side"
+  echo "by side, one a core. That is the same work with nothing split or shared, the"
+  echo "best this machine gives it at that moment; the *efficiency* is a round's"
+  echo "speedup over its ceiling, what splitting a frame's rows costs (above 1: the"
+  echo "split frame did better than whole frames side by side). Medians over the"
+  echo "rounds; *best* is the fastest one-thread batch over the fastest all-cores batch."
   echo
   echo "| number | camera | speedup: median (quartiles) | best | ceiling | efficiency | steal |"
   echo "|---|---|---|---|---|---|---|"
@@ -227,7 +231,8 @@ step "writing $out"
   done
   echo
   echo "Steal is the share of CPU time the hypervisor took during a render's rounds."
-  echo "An efficiency near 1 means the render uses all the parallelism the machine"
-  echo "gave; a speedup below the floor with a ceiling below it too is the machine's."
+  echo "An efficiency of 1 or more means the render uses all the parallelism the"
+  echo "machine gave; a speedup below the floor with the ceiling below it too is the"
+  echo "machine's, not the code's."
 } >"$out"
 cat "$out"

@@ -8,11 +8,14 @@
 //! cores, back to back, and the speedup is the median of the rounds' ratios:
 //! drift that spans a round cancels out.
 //!
-//! Each round also measures the machine's *ceiling* the same way: equal spins
-//! of arithmetic that share nothing, one after another on one thread or one a
-//! core on all of them. Perfectly parallel work gets the ceiling; a render's
-//! *efficiency* in a round is its speedup over that round's ceiling. The four
-//! batches of a round run in an order that reverses every round.
+//! Each round also measures the *ceiling*, the best speedup this machine gives
+//! the same work at that moment: as many whole frames, each rendered row after
+//! row by one thread, one after another on one thread or side by side, one a
+//! core. Nothing is split or shared there, so what it falls short of the core
+//! count is the machine's (vCPUs of unequal speed, neighbours on the host); a
+//! render's *efficiency* in a round is its speedup over that round's ceiling,
+//! what splitting a frame's rows costs. The four batches of a round run in an
+//! order that reverses every round.
 //!
 //! Prints one line a render, for `scripts/bench.sh`:
 //! `speedup NAME median=M q1=A q3=B best=F ceiling=C efficiency=E rounds=R
@@ -23,7 +26,8 @@
 
 use std::time::{Duration, Instant};
 
-use lensray::{Scalar, Scene, I16F16};
+use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
+use lensray::{Renderer, Scalar, Scene, I16F16};
 use lensray_host::render_image;
 use rayon::prelude::*;
 use rayon::ThreadPool;
@@ -43,19 +47,19 @@ fn frames<S: Scalar + Send + Sync>(pool: &ThreadPool, scene: &Scene<S>, samples:
     start.elapsed()
 }
 
-/// `spins` equal spins of `n` steps of arithmetic in `pool`, and the time they took.
-fn spins(pool: &ThreadPool, spins: usize, n: u64) -> Duration {
-    fn spin(n: u64) -> u64 {
-        let mut x = 1u64;
-        for i in 0..n {
-            x = x.wrapping_mul(6364136223846793005).wrapping_add(i) ^ (x >> 13);
-        }
-        x
-    }
+/// `jobs` whole frames, each rendered row after row by one thread, in `pool`:
+/// one after another on a pool of one, side by side on a pool of all cores.
+/// The same work with nothing split, so the best any split of it could do.
+fn whole_frames<S: Scalar + Send + Sync>(pool: &ThreadPool, scene: &Scene<S>, samples: u32, jobs: usize) -> Duration {
     let start = Instant::now();
     pool.install(|| {
-        (0..spins).into_par_iter().with_max_len(1).for_each(|_| {
-            std::hint::black_box(spin(std::hint::black_box(n)));
+        (0..jobs).into_par_iter().with_max_len(1).for_each(|_| {
+            let renderer = Renderer::new(scene, W, H).with_samples(samples);
+            let mut row = [Rgb888::BLACK; W as usize];
+            for y in 0..H {
+                renderer.render_row(y, &mut row);
+            }
+            std::hint::black_box(row);
         })
     });
     start.elapsed()
@@ -90,13 +94,14 @@ fn quantile(v: &[f64], q: f64) -> f64 {
     v[((v.len() - 1) as f64 * q).round() as usize]
 }
 
-/// One round's four batch times: render on one thread, on all; spins on one, on all.
+/// One round's four times a frame: rows in parallel on one thread and on all;
+/// whole frames on one thread and side by side on all.
 #[derive(Clone, Copy)]
 struct Round {
     render_one: f64,
     render_all: f64,
-    spin_one: f64,
-    spin_all: f64,
+    whole_one: f64,
+    whole_all: f64,
 }
 
 fn measure<S: Scalar + Send + Sync>(label: &str, radius: &str, samples: u32) {
@@ -108,9 +113,8 @@ fn measure<S: Scalar + Send + Sync>(label: &str, radius: &str, samples: u32) {
     frames(&all, &scene, samples, 3);
     let per_frame = frames(&one, &scene, samples, 3).as_secs_f64() / 3.0;
     let n_frames = (BATCH_TIME.as_secs_f64() / per_frame).ceil().max(1.0) as u32;
-    let probe = 1_000_000;
-    let per_step = spins(&one, threads, probe).as_secs_f64() / probe as f64;
-    let n_steps = (BATCH_TIME.as_secs_f64() / per_step) as u64;
+    // The ceiling's batch: as many frames as a render batch, one job a core.
+    let ceiling_jobs = (n_frames as usize).div_ceil(threads) * threads;
 
     let before = cpu_jiffies();
     let rounds: Vec<Round> = (0..ROUNDS)
@@ -118,14 +122,18 @@ fn measure<S: Scalar + Send + Sync>(label: &str, radius: &str, samples: u32) {
             let mut r = Round {
                 render_one: 0.0,
                 render_all: 0.0,
-                spin_one: 0.0,
-                spin_all: 0.0,
+                whole_one: 0.0,
+                whole_all: 0.0,
             };
             let mut batches: [&mut dyn FnMut(); 4] = [
-                &mut || r.render_one = frames(&one, &scene, samples, n_frames).as_secs_f64(),
-                &mut || r.render_all = frames(&all, &scene, samples, n_frames).as_secs_f64(),
-                &mut || r.spin_one = spins(&one, threads, n_steps).as_secs_f64(),
-                &mut || r.spin_all = spins(&all, threads, n_steps).as_secs_f64(),
+                &mut || r.render_one = frames(&one, &scene, samples, n_frames).as_secs_f64() / n_frames as f64,
+                &mut || r.render_all = frames(&all, &scene, samples, n_frames).as_secs_f64() / n_frames as f64,
+                &mut || {
+                    r.whole_one = whole_frames(&one, &scene, samples, ceiling_jobs).as_secs_f64() / ceiling_jobs as f64
+                },
+                &mut || {
+                    r.whole_all = whole_frames(&all, &scene, samples, ceiling_jobs).as_secs_f64() / ceiling_jobs as f64
+                },
             ];
             if round % 2 == 1 {
                 batches.reverse();
@@ -137,7 +145,7 @@ fn measure<S: Scalar + Send + Sync>(label: &str, radius: &str, samples: u32) {
     let steal = steal_since(before);
 
     let speedup: Vec<f64> = rounds.iter().map(|r| r.render_one / r.render_all).collect();
-    let ceiling: Vec<f64> = rounds.iter().map(|r| r.spin_one / r.spin_all).collect();
+    let ceiling: Vec<f64> = rounds.iter().map(|r| r.whole_one / r.whole_all).collect();
     let efficiency: Vec<f64> = speedup.iter().zip(&ceiling).map(|(s, c)| s / c).collect();
     let fastest = |f: fn(&Round) -> f64| rounds.iter().map(f).fold(f64::INFINITY, f64::min);
     let best = fastest(|r| r.render_one) / fastest(|r| r.render_all);
