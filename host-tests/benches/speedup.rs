@@ -117,29 +117,26 @@ fn measure<S: Scalar + Send + Sync>(label: &str, radius: &str, samples: u32) {
     let ceiling_jobs = (n_frames as usize).div_ceil(threads) * threads;
 
     let before = cpu_jiffies();
+    // Each batch's time a frame, in the order of Round's fields.
+    let batches: [&dyn Fn() -> f64; 4] = [
+        &|| frames(&one, &scene, samples, n_frames).as_secs_f64() / n_frames as f64,
+        &|| frames(&all, &scene, samples, n_frames).as_secs_f64() / n_frames as f64,
+        &|| whole_frames(&one, &scene, samples, ceiling_jobs).as_secs_f64() / ceiling_jobs as f64,
+        &|| whole_frames(&all, &scene, samples, ceiling_jobs).as_secs_f64() / ceiling_jobs as f64,
+    ];
     let rounds: Vec<Round> = (0..ROUNDS)
         .map(|round| {
-            let mut r = Round {
-                render_one: 0.0,
-                render_all: 0.0,
-                whole_one: 0.0,
-                whole_all: 0.0,
-            };
-            let mut batches: [&mut dyn FnMut(); 4] = [
-                &mut || r.render_one = frames(&one, &scene, samples, n_frames).as_secs_f64() / n_frames as f64,
-                &mut || r.render_all = frames(&all, &scene, samples, n_frames).as_secs_f64() / n_frames as f64,
-                &mut || {
-                    r.whole_one = whole_frames(&one, &scene, samples, ceiling_jobs).as_secs_f64() / ceiling_jobs as f64
-                },
-                &mut || {
-                    r.whole_all = whole_frames(&all, &scene, samples, ceiling_jobs).as_secs_f64() / ceiling_jobs as f64
-                },
-            ];
-            if round % 2 == 1 {
-                batches.reverse();
+            let mut t = [0.0; 4];
+            for i in 0..4 {
+                let i = if round % 2 == 1 { 3 - i } else { i };
+                t[i] = batches[i]();
             }
-            batches.iter_mut().for_each(|batch| batch());
-            r
+            Round {
+                render_one: t[0],
+                render_all: t[1],
+                whole_one: t[2],
+                whole_all: t[3],
+            }
         })
         .collect();
     let steal = steal_since(before);
