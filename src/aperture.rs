@@ -40,6 +40,20 @@ pub struct Aperture {
     inradius: i32,
 }
 
+impl crate::baked::Field for Aperture {
+    crate::baked::baked_fields!(Aperture { blades, edges, inradius }, check(ap) {
+        if ap.blades != 0 && !(3..=MAX_BLADES as u8).contains(&ap.blades) {
+            return Err(crate::baked::BakeError::OutOfRange("aperture blades not 0 or 3..=16"));
+        }
+        // |a x + b y| <= 2^30 needs unit normals in Q1.14, and c within that range.
+        if ap.edges.iter().any(|&(a, b)| a.unsigned_abs() > 1 << 14 || b.unsigned_abs() > 1 << 14)
+            || ap.inradius.unsigned_abs() > 1 << 30
+        {
+            return Err(crate::baked::BakeError::OutOfRange("aperture edge beyond Q1.14"));
+        }
+    });
+}
+
 impl Default for Aperture {
     fn default() -> Self {
         Aperture::ROUND

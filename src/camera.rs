@@ -46,6 +46,17 @@ pub struct Camera<S: Scalar> {
     rows: u32,
 }
 
+impl<S: crate::baked::BakeScalar> crate::baked::Field for Camera<S> {
+    crate::baked::baked_fields!(Camera { film, map, eye, lens_u, lens_v, pinhole, aperture, cols, rows }, check(cam) {
+        if !(1..=MAX_IMAGE_SIDE).contains(&cam.cols) || !(1..=MAX_IMAGE_SIDE).contains(&cam.rows) {
+            return Err(crate::baked::BakeError::OutOfRange("image side not in 1..=8192"));
+        }
+        if !S::film_map_fits(&cam.map, cam.cols, cam.rows) {
+            return Err(crate::baked::BakeError::OutOfRange("film map too large for the image"));
+        }
+    });
+}
+
 /// A primary ray in world space, with a unit direction.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct Ray<S: Scalar> {

@@ -24,10 +24,18 @@ struct Cone<S> {
     always: bool,
 }
 
+impl<S: crate::baked::Field> crate::baked::Field for Cone<S> {
+    crate::baked::baked_fields!(Cone { axis, cos_min, always });
+}
+
 /// The lens's cones for every object of a scene, in the scene's order.
 #[derive(Clone, Debug)]
 pub struct LensCones<S: Scalar> {
     cones: heapless::Vec<Cone<S>, MAX_OBJECTS>,
+}
+
+impl<S: Scalar + crate::baked::Field> crate::baked::Field for LensCones<S> {
+    crate::baked::baked_fields!(LensCones { cones });
 }
 
 /// Slack on `cos θ` for the rounding of the direction, the axis and their dot
@@ -68,6 +76,16 @@ impl<S: Scalar> LensCones<S> {
             let _ = cones.push(cone);
         }
         LensCones { cones }
+    }
+
+    /// Number of cones: one per object.
+    pub fn len(&self) -> usize {
+        self.cones.len()
+    }
+
+    /// Whether there are no cones (a scene without objects).
+    pub fn is_empty(&self) -> bool {
+        self.cones.is_empty()
     }
 
     /// Whether a ray from the lens along the unit `d` can reach object `i`.

@@ -44,6 +44,31 @@ pub struct FixedFilmMap {
     f: u32,
 }
 
+impl crate::baked::Field for FixedFilmMap {
+    crate::baked::baked_fields!(FixedFilmMap { a, b, c, k_u, k_v, f }, check(m) {
+        // Directions stay below 2^31 at scale 2^-s, so c below 2^46 at 2^-(s + f).
+        if m.f > 15 || m.c.iter().any(|x| x.unsigned_abs() >= 1 << 46) {
+            return Err(crate::baked::BakeError::OutOfRange("film map beyond its scale"));
+        }
+    });
+}
+
+impl FixedFilmMap {
+    /// Whether every direction of a `cols` × `rows` image, lens terms
+    /// included, stays below 2^31 at scale 2^-s, as [`FixedFilmMap::new`]
+    /// makes it (checked on a baked map, whose size comes with it).
+    pub(crate) fn fits(&self, cols: u32, rows: u32) -> bool {
+        let (i_max, j_max) = (2 * cols as i64 - 1, 2 * rows as i64 - 1);
+        (0..3).all(|k| {
+            let lens = self.k_u[k].unsigned_abs() as u64 + self.k_v[k].unsigned_abs() as u64;
+            [(1, 1), (i_max, 1), (1, j_max), (i_max, j_max)].iter().all(|&(i, j)| {
+                let d = self.a[k] as i64 * i + self.b[k] as i64 * j + self.c[k];
+                (d.unsigned_abs() >> self.f) + lens < 1 << 31
+            })
+        })
+    }
+}
+
 /// Rounds `x` to the nearest integer, away from zero on ties. Set-up only.
 fn round_f64(x: f64) -> f64 {
     let r = libm::floor(libm::fabs(x) + 0.5);
@@ -149,6 +174,10 @@ pub struct FloatFilmMap {
     c: [f32; 3],
     k_u: [f32; 3],
     k_v: [f32; 3],
+}
+
+impl crate::baked::Field for FloatFilmMap {
+    crate::baked::baked_fields!(FloatFilmMap { a, b, c, k_u, k_v });
 }
 
 impl FloatFilmMap {

@@ -48,13 +48,15 @@
 //! [`scalar`] (the number trait), [`vec3`], [`transform`], [`lfsr`],
 //! [`aperture`], [`camera`], [`film`] (a pixel's exact ray directions),
 //! [`cull`] (which objects a lens ray can reach), [`autofocus`],
-//! [`progressive`], [`shape`], [`scene`], [`parse`], [`mod@render`].
+//! [`progressive`], [`shape`], [`scene`], [`parse`], [`mod@render`],
+//! [`baked`] (a renderer set up on the host, as checked bytes for flash).
 
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
 
 pub mod aperture;
 pub mod autofocus;
+pub mod baked;
 pub mod camera;
 pub mod cull;
 pub mod film;

@@ -21,12 +21,12 @@ use embedded_graphics_core::primitives::Rectangle;
 /// position, so rows may be rendered in any order or in parallel.
 #[derive(Clone, Debug)]
 pub struct Renderer<'a, S: Scalar> {
-    scene: &'a Scene<S>,
-    camera: Camera<S>,
+    pub(crate) scene: &'a Scene<S>,
+    pub(crate) camera: Camera<S>,
     /// The objects each lens ray can reach, precomputed for this camera.
-    cones: LensCones<S>,
-    samples: u32,
-    adaptive: bool,
+    pub(crate) cones: LensCones<S>,
+    pub(crate) samples: u32,
+    pub(crate) adaptive: bool,
 }
 
 /// Lens samples an adaptive pixel takes before it first asks whether its

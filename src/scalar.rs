@@ -172,6 +172,15 @@ pub struct FixedRow {
     pub(crate) shift: u32,
 }
 
+impl crate::baked::Field for FixedRow {
+    crate::baked::baked_fields!(FixedRow { m, t, shift }, check(row) {
+        // The kernels' exact i64 sums need these bounds.
+        if row.shift > 30 || row.m.iter().any(|x| x.unsigned_abs() > 1 << 30) || row.t.unsigned_abs() > 1 << 60 {
+            return Err(crate::baked::BakeError::OutOfRange("matrix row beyond its scale"));
+        }
+    });
+}
+
 /// Q16.16's precise direction: `m[i] · 2^e`, with `|m[i]| < 2^31`.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct FixedDir {

@@ -113,6 +113,10 @@ pub struct Material<S> {
     pub shine: S,
 }
 
+impl<S: crate::baked::Field> crate::baked::Field for Material<S> {
+    crate::baked::baked_fields!(Material { ka, kd, ks, shine });
+}
+
 /// A named material of the classic OpenGL table: Ka, Kd, Ks, shine (f64).
 pub type NamedMaterial = (&'static str, [f64; 3], [f64; 3], [f64; 3], f64);
 
@@ -227,6 +231,24 @@ pub struct Object<S: Scalar> {
     /// The plane's world unit normal, the same for every hit: computed once,
     /// exactly as [`Object::normal`] would compute it per hit.
     plane_normal: Vec3<S>,
+}
+
+impl<S: crate::baked::BakeScalar> crate::baked::Field for Object<S> {
+    crate::baked::baked_fields!(Object {
+        shape,
+        material,
+        texture,
+        inv_texture,
+        to_object,
+        normal_to_world,
+        bound,
+        plane_normal,
+    }, check(obj) {
+        // The plane is the one shape without a bounding sphere; intersect relies on it.
+        if (obj.shape == Shape::Plane) != obj.bound.is_none() {
+            return Err(crate::baked::BakeError::OutOfRange("bounding sphere does not match the shape"));
+        }
+    });
 }
 
 /// What the exact set-up of an object is built from (the parser's output).
@@ -413,6 +435,10 @@ pub struct Light<S> {
     pub position: Vec3<S>,
     /// Intensity per channel.
     pub intensity: Vec3<S>,
+}
+
+impl<S: crate::baked::Field> crate::baked::Field for Light<S> {
+    crate::baked::baked_fields!(Light { position, intensity });
 }
 
 /// A parsed, validated scene in the number type `S`.

@@ -129,6 +129,10 @@ pub struct Affine<S: Scalar> {
     rows: [S::Row; 3],
 }
 
+impl<S: crate::baked::BakeScalar> crate::baked::Field for Affine<S> {
+    crate::baked::baked_fields!(Affine { rows });
+}
+
 impl<S: Scalar> Affine<S> {
     /// Rounds an exact matrix to `S`'s row format.
     pub fn from_mat(m: &Mat34) -> Self {

@@ -7,6 +7,7 @@
 //! lensray emulate SCENE --board microbit|mps2-an386 [-o OUT] [--width W] [--height H] [--samples N] [--float]
 //! lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
 //! lensray compare A.bmp B.bmp [--diff OUT]
+//! lensray bake SCENE [-o FILE] [--width W] [--height H] [--samples N] [--float]
 //! ```
 //!
 //! Exit status: 0 on success, 2 on any error (bad scene, bad arguments,
@@ -16,6 +17,7 @@
 
 use std::process::ExitCode;
 
+mod cmd_bake;
 mod cmd_compare;
 mod cmd_emulate;
 mod cmd_render;
@@ -32,6 +34,7 @@ pub(crate) const USAGE: &str = "usage:
                   [--samples N] [--float] [--soft-sqrt] [--timeout SECONDS]
   lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
   lensray compare A B [--diff OUT]
+  lensray bake SCENE [-o FILE] [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
 
   render   renders a scene file to OUT (.bmp or .png; default: the scene's
            name with .bmp, in the current directory). --width defaults to 640,
@@ -58,7 +61,12 @@ pub(crate) const USAGE: &str = "usage:
            .png), and prints PSNR, mean and max error, the share of pixels
            within 1, 2 and 8 levels, and the worst row and column. --diff
            writes the error as a heat map (.png or .bmp): black where equal,
-           brighter where worse, white from 8 levels.";
+           brighter where worse, white from 8 levels.
+  bake     sets the scene up for one image size (--width default 160, --height
+           from aspect_ratio) and writes it as a baked scene (default: the
+           scene's name with .lrbk): little-endian, versioned, CRC-32
+           checked, what the firmware loads without a parser (README, Baked
+           scenes). --float bakes the f32 renderer's set-up.";
 
 /// A one-line error for the user; exit status 2.
 pub(crate) struct Fail(pub(crate) String);
@@ -100,6 +108,7 @@ fn run(args: &[String]) -> Result<(), Fail> {
         Some("sheet") => cmd_sheet::run(&args[1..]),
         Some("emulate") => cmd_emulate::run(&args[1..]),
         Some("compare") => cmd_compare::run(&args[1..]),
+        Some("bake") => cmd_bake::run(&args[1..]),
         Some("-h") | Some("--help") | Some("help") => {
             println!("{USAGE}");
             Ok(())
