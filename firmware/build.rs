@@ -11,7 +11,10 @@
 //! | `LENSRAY_FAULT` | `panic` or `hardfault`: fail on purpose (tests) | none |
 //!
 //! The scene is parsed here too, so a bad scene fails the build with
-//! `FILE:LINE: message` rather than on the board.
+//! `FILE:LINE: message` rather than on the board. By default it is also set
+//! up here for the image size and baked (`lensray::baked`): the firmware
+//! loads the baked bytes and holds no parser and no `f64` set-up. With the
+//! feature `parse-on-device` the scene's text is embedded and parsed on the board.
 
 use std::env;
 use std::fs;
@@ -52,6 +55,12 @@ fn main() {
             manifest.join("boards/mps2-an386/memory.x"),
             "thumbv7em-none-eabihf",
         ),
+        // The same memory map as the AN386: 4 MiB of flash and of RAM.
+        (
+            "mps2-an385",
+            manifest.join("boards/mps2-an386/memory.x"),
+            "thumbv7m-none-eabi",
+        ),
     ];
     let chosen: Vec<_> = boards
         .iter()
@@ -60,7 +69,7 @@ fn main() {
         })
         .collect();
     let [(board, memory_x, want_target)] = chosen.as_slice() else {
-        fail("pick exactly one board feature: --features microbit (--target thumbv6m-none-eabi) or --features mps2-an386 (--target thumbv7em-none-eabihf)");
+        fail("pick exactly one board feature: --features microbit (--target thumbv6m-none-eabi), mps2-an385 (--target thumbv7m-none-eabi) or mps2-an386 (--target thumbv7em-none-eabihf)");
     };
     if target != *want_target {
         fail(&format!("board {board} needs --target {want_target}, not {target}"));
@@ -112,11 +121,21 @@ fn main() {
         Some(v) => fail(&format!("LENSRAY_FAULT={v}: must be panic or hardfault")),
     };
 
-    fs::write(out.join("scene.txt"), &bytes).unwrap_or_else(|e| fail(&format!("cannot write the scene: {e}")));
+    // What goes into flash: the scene's text to parse on the device, or by
+    // default its set-up for this image size, baked.
+    let parse_on_device = env::var_os("CARGO_FEATURE_PARSE_ON_DEVICE").is_some();
+    let embedded = if parse_on_device {
+        bytes.clone()
+    } else if float {
+        bake::<f32>(&bytes, width, height, samples)
+    } else {
+        bake::<lensray::I16F16>(&bytes, width, height, samples)
+    };
+    fs::write(out.join("scene.bin"), &embedded).unwrap_or_else(|e| fail(&format!("cannot write the scene: {e}")));
     let config = format!(
         "/// The board's name.\n\
          pub const BOARD: &str = {board:?};\n\
-         /// The scene file's bytes, embedded in flash.\n\
+         /// The scene, embedded in flash: its text (feature `parse-on-device`) or baked.\n\
          pub static SCENE: &[u8] = include_bytes!({scene_txt:?});\n\
          /// The scene file's name.\n\
          pub const SCENE_NAME: &str = {scene_name:?};\n\
@@ -130,8 +149,21 @@ fn main() {
          pub type Number = {number};\n\
          /// A failure on purpose, for the tests: \"\", \"panic\" or \"hardfault\".\n\
          pub const FAULT: &str = {fault:?};\n",
-        scene_txt = out.join("scene.txt").display().to_string(),
+        scene_txt = out.join("scene.bin").display().to_string(),
         number = if float { "f32" } else { "lensray::I16F16" },
     );
     fs::write(out.join("config.rs"), config).unwrap_or_else(|e| fail(&format!("cannot write config.rs: {e}")));
+}
+
+/// The scene set up for `width` x `height` (and `samples`) and baked.
+fn bake<S: lensray::baked::BakeScalar>(text: &[u8], width: u32, height: u32, samples: Option<u32>) -> Vec<u8> {
+    let scene =
+        lensray::Scene::<S>::parse_bytes(text).unwrap_or_else(|e| fail(&format!("line {}: {}", e.line, e.kind)));
+    let mut renderer = lensray::Renderer::new(&scene, width, height);
+    if let Some(n) = samples {
+        renderer = renderer.with_samples(n);
+    }
+    let mut out = vec![0u8; lensray::baked::baked_len(&renderer)];
+    lensray::baked::bake(&renderer, &mut out).unwrap_or_else(|e| fail(&format!("cannot bake the scene: {e}")));
+    out
 }

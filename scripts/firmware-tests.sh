@@ -22,10 +22,12 @@ qemu-system-arm --version | head -1
 echo "size tool: $size_tool"
 
 cd "$root/firmware"
-step "firmware: format and lint (microbit, mps2-an386, pico)"
+step "firmware: format and lint (microbit, mps2-an385, mps2-an386, pico)"
 cargo fmt --all --check
 cargo clippy --release --features microbit --target thumbv6m-none-eabi -- -D warnings
 cargo clippy --release --features microbit,profile --target thumbv6m-none-eabi -- -D warnings
+cargo clippy --release --features microbit,parse-on-device --target thumbv6m-none-eabi -- -D warnings
+cargo clippy --release --features mps2-an385 --target thumbv7m-none-eabi -- -D warnings
 cargo clippy --release --features mps2-an386,hw-sqrt --target thumbv7em-none-eabihf -- -D warnings
 cargo clippy --release -p lensray-pico --target thumbv6m-none-eabi -- -D warnings
 
@@ -33,7 +35,7 @@ step "firmware: Raspberry Pi Pico with an ST7789 panel (built, not run)"
 cargo build --release -p lensray-pico --target thumbv6m-none-eabi
 "$size_tool" target/thumbv6m-none-eabi/release/lensray-pico
 
-step "firmware: under QEMU on both boards, bit for bit against the host"
+step "firmware: under QEMU on every board, bit for bit against the host"
 cd "$root"
 start=$(date +%s)
 cargo test -p lensray-host --test firmware -- --ignored --nocapture

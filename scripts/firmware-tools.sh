@@ -2,7 +2,7 @@
 # firmware needs where it is missing (thumb targets, qemu-system-arm, a size
 # tool) and sets $size_tool.
 installed=$(rustup target list --installed)
-for t in thumbv6m-none-eabi thumbv7em-none-eabihf; do
+for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf; do
   if ! grep -qx "$t" <<<"$installed"; then rustup target add "$t"; fi
 done
 as_root_apt() {

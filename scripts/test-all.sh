@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 step() { printf '\n==> %s\n' "$*"; }
 
 step "toolchain: targets and components"
-targets="thumbv6m-none-eabi thumbv7em-none-eabihf"
+targets="thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf"
 installed=$(rustup target list --installed)
 for t in $targets; do
   if ! grep -qx "$t" <<<"$installed"; then rustup target add "$t"; fi

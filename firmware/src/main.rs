@@ -1,7 +1,8 @@
-//! lensray's firmware for QEMU's `microbit` (Cortex-M0) and `mps2-an386`
-//! (Cortex-M4F) machines.
+//! lensray's firmware for QEMU's `microbit` (Cortex-M0), `mps2-an385`
+//! (Cortex-M3) and `mps2-an386` (Cortex-M4F) machines.
 //!
-//! It parses a scene embedded in flash, renders it one scanline at a time into
+//! It loads a scene baked at build time into flash (`lensray::baked`; with
+//! the feature `parse-on-device` it parses the scene's text instead), renders it one scanline at a time into
 //! a `DrawTarget` that sends each finished row to the host over semihosting
 //! (the file `lensray-rows.rgb` in QEMU's working directory), reports the
 //! instructions it took (run under `-icount shift=0`) and its memory use, and
@@ -24,12 +25,15 @@ mod stack_paint;
 
 use core::fmt::Write;
 use cortex_m_rt::{entry, exception, ExceptionFrame};
-use lensray::{render_with, Renderer, Scalar, Scene};
+#[cfg(feature = "parse-on-device")]
+use lensray::Scene;
+use lensray::{render_with, Renderer, Scalar};
 use row_file::RowFile;
 use semihosting::{exit, HostFile};
 
 /// Build-time settings written by build.rs: `BOARD`, `SCENE`, `SCENE_NAME`,
 /// `WIDTH`, `HEIGHT`, `SAMPLES`, `Number`, `FAULT`.
+#[allow(dead_code)] // SAMPLES is baked in unless the scene is parsed on the device.
 mod config {
     include!(concat!(env!("OUT_DIR"), "/config.rs"));
 }
@@ -50,9 +54,64 @@ const SQRT_NOTE: &str = if cfg!(feature = "hw-sqrt") {
 /// The core, for the report.
 const CORE: &str = if cfg!(feature = "microbit") {
     "Cortex-M0"
+} else if cfg!(feature = "mps2-an385") {
+    "Cortex-M3"
 } else {
     "Cortex-M4F"
 };
+/// How the scene reached the renderer, for the report.
+const SCENE_FORM: &str = if cfg!(feature = "parse-on-device") {
+    "parsed"
+} else {
+    "baked"
+};
+
+/// The scene, ready to render: parsed on the device from its text.
+#[cfg(feature = "parse-on-device")]
+type Loaded = Scene<Number>;
+/// The scene, ready to render: loaded from its baked form.
+#[cfg(not(feature = "parse-on-device"))]
+type Loaded = lensray::baked::Baked<Number>;
+
+/// Fills `loaded` from the embedded scene, in place; a message on failure.
+#[cfg(feature = "parse-on-device")]
+fn load(loaded: &mut Loaded, console: &mut HostFile) -> bool {
+    match loaded.parse_into(SCENE) {
+        Ok(()) => true,
+        Err(e) => {
+            let _ = writeln!(console, "{SCENE_NAME}:{}: {}", e.line, e.kind);
+            false
+        }
+    }
+}
+
+/// Fills `loaded` from the embedded scene, in place; a message on failure.
+#[cfg(not(feature = "parse-on-device"))]
+fn load(loaded: &mut Loaded, console: &mut HostFile) -> bool {
+    match loaded.load(SCENE) {
+        Ok(()) => true,
+        Err(e) => {
+            let _ = writeln!(console, "{SCENE_NAME} (baked): {e}");
+            false
+        }
+    }
+}
+
+/// The renderer of a loaded scene, with the build's sample override.
+#[cfg(feature = "parse-on-device")]
+fn renderer(loaded: &Loaded) -> Renderer<'_, Number> {
+    let r = Renderer::new(loaded, WIDTH, HEIGHT);
+    match SAMPLES {
+        Some(n) => r.with_samples(n),
+        None => r,
+    }
+}
+
+/// The renderer of a loaded scene (size and samples were baked in).
+#[cfg(not(feature = "parse-on-device"))]
+fn renderer(loaded: &Loaded) -> Renderer<'_, Number> {
+    loaded.renderer()
+}
 
 #[entry]
 fn main() -> ! {
@@ -87,16 +146,12 @@ fn main() -> ! {
     #[allow(unreachable_code)]
     let calibration = counter.calibrate();
     let t0 = counter.ticks();
-    // Parsed in place: returning a scene by value would need a second copy on the stack.
-    let mut scene = Scene::<Number>::default();
-    if let Err(e) = scene.parse_into(SCENE) {
-        let _ = writeln!(console, "{SCENE_NAME}:{}: {}", e.line, e.kind);
+    // Loaded in place: returning a scene by value would need a second copy on the stack.
+    let mut loaded = new_loaded();
+    if !load(&mut loaded, &mut console) {
         exit(2)
     }
-    let mut renderer = Renderer::new(&scene, WIDTH, HEIGHT);
-    if let Some(n) = SAMPLES {
-        renderer = renderer.with_samples(n);
-    }
+    let renderer = renderer(&loaded);
     let t1 = counter.ticks();
 
     let mut rows = match RowFile::<ROW_BYTES>::create(ROWS_FILE, HEIGHT) {
@@ -122,11 +177,11 @@ fn main() -> ! {
     let rays = renderer.rays_per_pixel();
     let report = writeln!(
         console,
-        "board {BOARD} ({CORE}), {}{}, scene {SCENE_NAME}, {WIDTH}x{HEIGHT}, {rays} rays per pixel\n\
+        "board {BOARD} ({CORE}), {}{}, scene {SCENE_NAME} ({SCENE_FORM}), {WIDTH}x{HEIGHT}, {rays} rays per pixel\n\
          set-up: {setup} instructions\n\
          frame: {frame} instructions, {per_pixel} instructions per pixel\n\
          memory: flash {} bytes, static RAM {} bytes, peak stack {} bytes{}, RAM {} bytes\n\
-         report board={BOARD} number={} f32_sqrt={SQRT} width={WIDTH} height={HEIGHT} rays={rays} setup={setup} frame={frame} \
+         report board={BOARD} number={} f32_sqrt={SQRT} width={WIDTH} height={HEIGHT} rays={rays} scene_form={SCENE_FORM} setup={setup} frame={frame} \
          per_pixel={per_pixel} flash={} static_ram={} peak_stack={} stack_overflow={} ram={} \
          calibration={calibration}",
         Number::NAME,
@@ -144,6 +199,16 @@ fn main() -> ! {
         stack_paint::ram(),
     );
     exit(if report.is_ok() { 0 } else { 1 })
+}
+
+#[cfg(feature = "parse-on-device")]
+fn new_loaded() -> Loaded {
+    Scene::default()
+}
+
+#[cfg(not(feature = "parse-on-device"))]
+fn new_loaded() -> Loaded {
+    Loaded::empty()
 }
 
 #[exception]

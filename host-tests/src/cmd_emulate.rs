@@ -21,28 +21,48 @@ use lensray_host::{encode, load_scene, write_atomic, Format, Image};
 use crate::opts::{image_size, parse_opts, parse_u32};
 use crate::{Fail, USAGE};
 
-/// A board QEMU emulates: its name, Rust target, cargo features and QEMU machine arguments.
+/// A board QEMU emulates: its name, Rust target, cargo features, QEMU
+/// program and machine arguments. A new board is one more entry in [`BOARDS`].
 struct Board {
     name: &'static str,
     target: &'static str,
     features: &'static str,
+    qemu_program: &'static str,
     qemu: &'static [&'static str],
 }
 
-const BOARDS: [Board; 2] = [
+const BOARDS: [Board; 3] = [
     Board {
         name: "microbit",
         target: "thumbv6m-none-eabi",
         features: "microbit",
+        qemu_program: "qemu-system-arm",
         qemu: &["-machine", "microbit"],
+    },
+    Board {
+        name: "mps2-an385",
+        target: "thumbv7m-none-eabi",
+        features: "mps2-an385",
+        qemu_program: "qemu-system-arm",
+        qemu: &["-machine", "mps2-an385", "-cpu", "cortex-m3"],
     },
     Board {
         name: "mps2-an386",
         target: "thumbv7em-none-eabihf",
         features: "mps2-an386,hw-sqrt",
+        qemu_program: "qemu-system-arm",
         qemu: &["-machine", "mps2-an386", "-cpu", "cortex-m4"],
     },
 ];
+
+/// The boards' names, for messages: "a, b or c".
+fn board_names() -> String {
+    let names: Vec<&str> = BOARDS.iter().map(|b| b.name).collect();
+    match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        _ => names.join(""),
+    }
+}
 
 /// The file the firmware writes its rows to, in QEMU's working directory.
 const ROWS_FILE: &str = "lensray-rows.rgb";
@@ -58,20 +78,24 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     let mut board = None;
     let mut timeout = DEFAULT_TIMEOUT;
     let mut soft_sqrt = false;
+    let mut parse_on_device = false;
     let mut rest = Vec::new();
     let mut it = args.iter();
     while let Some(a) = it.next() {
         match a.as_str() {
             "--board" => {
-                let name = it.next().ok_or("--board needs a value: microbit or mps2-an386")?;
+                let name = it
+                    .next()
+                    .ok_or_else(|| Fail(format!("--board needs a value: {}", board_names())))?;
                 let b = BOARDS
                     .iter()
                     .find(|b| b.name == name.as_str())
-                    .ok_or_else(|| Fail(format!("--board {name}: unknown board; use microbit or mps2-an386")))?;
+                    .ok_or_else(|| Fail(format!("--board {name}: unknown board; use {}", board_names())))?;
                 board = Some(b);
             }
             "--timeout" => timeout = parse_u32("--timeout", it.next(), 1, 86_400)?,
             "--soft-sqrt" => soft_sqrt = true,
+            "--parse-on-device" => parse_on_device = true,
             _ => rest.push(a.clone()),
         }
     }
@@ -86,7 +110,7 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     let [scene_path] = o.positional.as_slice() else {
         return Err(Fail(format!("emulate takes one scene file\n{USAGE}")));
     };
-    let board = board.ok_or_else(|| Fail(format!("emulate needs --board microbit or --board mps2-an386\n{USAGE}")))?;
+    let board = board.ok_or_else(|| Fail(format!("emulate needs --board {}\n{USAGE}", board_names())))?;
     let scene_path = Path::new(scene_path);
 
     // The scene first: a bad one fails here, exactly as `render` reports it.
@@ -108,12 +132,17 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
         return Err(Fail(format!("{}: is a directory", out.display())));
     }
     let scene_abs = std::fs::canonicalize(scene_path).map_err(|e| Fail(format!("{}: {e}", scene_path.display())))?;
-    if Command::new("qemu-system-arm").arg("--version").output().is_err() {
-        return Err(Fail(
-            "qemu-system-arm is missing: install it (Debian: sudo apt-get install qemu-system-arm), \
-             or run bash scripts/test-all.sh, which does"
-                .into(),
-        ));
+    if Command::new(board.qemu_program).arg("--version").output().is_err() {
+        let package = if board.qemu_program == "qemu-system-arm" {
+            "qemu-system-arm"
+        } else {
+            "qemu-system-misc"
+        };
+        return Err(Fail(format!(
+            "{} is missing: install it (Debian: sudo apt-get install {package}), \
+             or run bash scripts/test-all.sh, which does",
+            board.qemu_program
+        )));
     }
 
     let work = WorkDir::new()?;
@@ -125,6 +154,7 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
         samples: o.samples,
         float: o.float,
         soft_sqrt,
+        parse_on_device,
     };
     let elf = build.run(&work.0)?;
 
@@ -201,6 +231,7 @@ struct Build<'a> {
     samples: Option<u32>,
     float: bool,
     soft_sqrt: bool,
+    parse_on_device: bool,
 }
 
 impl Build<'_> {
@@ -215,11 +246,14 @@ impl Build<'_> {
         lock.lock()
             .map_err(|e| Fail(format!("{}: cannot lock: {e}", lock_path.display())))?;
 
-        let features = if self.soft_sqrt {
+        let mut features = if self.soft_sqrt {
             self.board.features.replace(",hw-sqrt", "")
         } else {
             self.board.features.to_string()
         };
+        if self.parse_on_device {
+            features += ",parse-on-device";
+        }
         eprintln!("building the firmware for {} ({})", self.board.name, self.board.target);
         let mut cmd = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
         cmd.current_dir(&firmware)
@@ -285,7 +319,7 @@ fn firmware_dir() -> Result<PathBuf, Fail> {
 /// Runs the ELF under QEMU in `dir` with instruction counting; its console
 /// output, or an error if it fails, exits non-zero or outlives `timeout`.
 fn run_qemu(board: &Board, elf: &Path, dir: &Path, timeout: Duration) -> Result<String, Fail> {
-    let mut child = Command::new("qemu-system-arm")
+    let mut child = Command::new(board.qemu_program)
         .args(board.qemu)
         .args(["-nographic", "-monitor", "none", "-serial", "null"])
         .args(["-semihosting-config", "enable=on,target=native", "-icount", "shift=0"])
@@ -296,7 +330,7 @@ fn run_qemu(board: &Board, elf: &Path, dir: &Path, timeout: Duration) -> Result<
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .map_err(|e| Fail(format!("cannot run qemu-system-arm: {e}")))?;
+        .map_err(|e| Fail(format!("cannot run {}: {e}", board.qemu_program)))?;
     let mut stdout = child.stdout.take().ok_or("no QEMU stdout")?;
     let mut stderr = child.stderr.take().ok_or("no QEMU stderr")?;
     // Pipes drained on their own threads, so a chatty QEMU never blocks.

@@ -4,7 +4,7 @@
 //! lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
 //!                      [--passes DIR [--first-step S] [--preview-samples P]]
 //! lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT] [render options]
-//! lensray emulate SCENE --board microbit|mps2-an386 [-o OUT] [--width W] [--height H] [--samples N] [--float]
+//! lensray emulate SCENE --board microbit|mps2-an385|mps2-an386 [-o OUT] [--width W] [--height H] [--samples N] [--float]
 //! lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
 //! lensray compare A.bmp B.bmp [--diff OUT]
 //! lensray bake SCENE [-o FILE] [--width W] [--height H] [--samples N] [--float]
@@ -30,8 +30,8 @@ pub(crate) const USAGE: &str = "usage:
                        [--passes DIR [--first-step S] [--preview-samples P]]
   lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT]
                        [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
-  lensray emulate SCENE --board microbit|mps2-an386 [-o OUT] [--width W] [--height H]
-                  [--samples N] [--float] [--soft-sqrt] [--timeout SECONDS]
+  lensray emulate SCENE --board microbit|mps2-an385|mps2-an386 [-o OUT] [--width W] [--height H]
+                  [--samples N] [--float] [--soft-sqrt] [--parse-on-device] [--timeout SECONDS]
   lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
   lensray compare A B [--diff OUT]
   lensray bake SCENE [-o FILE] [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
@@ -55,7 +55,10 @@ pub(crate) const USAGE: &str = "usage:
            writes the image the board rendered to OUT (default: the scene's
            name, -BOARD.bmp) and prints its instructions per pixel and memory
            use. --width defaults to 160; --soft-sqrt takes f32 square roots in
-           software even on the FPU board; --timeout (3600 s) bounds the run.
+           software even on the FPU board; --parse-on-device embeds the
+           scene's text and parses it on the board instead of the scene
+           baked at build time; --timeout (3600 s) bounds the run. Boards:
+           microbit (Cortex-M0), mps2-an385 (Cortex-M3), mps2-an386 (Cortex-M4F).
   compare  renders a scene with Q16.16 and with the f32 reference (same size,
            same samples; sizes as for render), or reads two images (.bmp or
            .png), and prints PSNR, mean and max error, the share of pixels

@@ -36,6 +36,7 @@ fn tmp(name: &str) -> PathBuf {
 /// One emulated render: its options, and the results.
 struct Run {
     board: &'static str,
+    /// A file of `scenes/`, or an absolute path.
     scene: &'static str,
     width: u32,
     height: u32,
@@ -96,7 +97,7 @@ fn emulate_and_compare(run: &Run) -> Outcome {
     let out = tmp(&format!(
         "{}-{}-{}x{}-{}{}.bmp",
         run.board,
-        run.scene,
+        Path::new(run.scene).file_name().unwrap().to_string_lossy(),
         run.width,
         run.height,
         if run.float { "f32" } else { "q16" },
@@ -269,7 +270,11 @@ fn microbit_renders_bit_for_bit_in_16k_of_ram() {
         // The micro:bit's own 16 KiB, statics and stack together.
         assert_eq!(o.get("ram"), 16 * 1024);
         assert!(o.get("flash") <= 256 * 1024);
+        assert_eq!(o.report.get("scene_form").map(String::as_str), Some("baked"));
     }
+    // Baked Program 1 (issue 15's floor): statics and the deepest stack in 8 KiB.
+    let ram = outcomes[0].get("static_ram") + outcomes[0].get("peak_stack");
+    assert!(ram <= 8 * 1024, "Program 1 baked needs {ram} bytes of RAM");
     // Program 1 at 4 rays per pixel against one ray per pixel of the pinhole scene.
     assert_eq!(outcomes[0].get("rays"), 4);
     assert_eq!(outcomes[1].get("rays"), 1);
@@ -310,6 +315,58 @@ fn mps2_an386_renders_bit_for_bit_in_q16_and_f32() {
     );
     assert_eq!(outcomes[2].image, outcomes[3].image);
     record("mps2-an386", &runs.iter().zip(&outcomes).collect::<Vec<_>>());
+}
+
+/// Scenes from the fuzzer's grammar (seeded) that both number types accept
+/// and that are not blank at 32x24: scenes no one picked by hand, written
+/// to files for `lensray emulate`.
+fn unseen_scenes(seed: u64, count: usize) -> Vec<&'static str> {
+    use lensray::Scene;
+    use lensray_host::fuzz::{scene_from_grammar, Rng};
+    let mut rng = Rng::new(seed);
+    let mut out = Vec::new();
+    while out.len() < count {
+        let text = scene_from_grammar(&mut rng);
+        let (Ok(q), Ok(_)) = (Scene::<I16F16>::parse_bytes(&text), Scene::<f32>::parse_bytes(&text)) else {
+            continue;
+        };
+        let img = render_image(&q, 32, 24, Some(2), &|| {});
+        if img.pixels.iter().all(|p| *p == img.pixels[0]) {
+            continue;
+        }
+        let path = tmp(&format!("unseen-{seed}-{}.scene", out.len()));
+        std::fs::write(&path, &text).unwrap();
+        out.push(&*Box::leak(path.to_string_lossy().into_owned().into_boxed_str()));
+    }
+    out
+}
+
+#[test]
+#[ignore = "needs qemu-system-arm and thumbv7m-none-eabi; run by scripts/firmware-tests.sh"]
+fn mps2_an385_cortex_m3_renders_bit_for_bit_in_q16_and_f32() {
+    let run = |scene, width, height, samples, float| Run {
+        board: "mps2-an385",
+        scene,
+        width,
+        height,
+        samples,
+        float,
+        soft_sqrt: false,
+    };
+    let mut runs = vec![
+        run(PROGRAM1, 160, 120, Some(4), false),
+        run(PINHOLE, 160, 120, None, false),
+        run(PROGRAM1, 160, 120, Some(4), true),
+        run(PINHOLE, 160, 120, None, true),
+    ];
+    // Scenes never seen, small, 2 rays a pixel, in both number types.
+    for (k, s) in unseen_scenes(15, 3).into_iter().enumerate() {
+        runs.push(run(s, 48, 36, Some(2), k % 2 == 1));
+    }
+    let outcomes: Vec<Outcome> = runs.iter().map(emulate_and_compare).collect();
+    assert_eq!(outcomes[0].get("rays"), 4);
+    assert_eq!(outcomes[1].get("rays"), 1);
+    record("mps2-an385", &runs.iter().zip(&outcomes).collect::<Vec<_>>());
 }
 
 /// `lensray emulate` with a deliberate failure built in (`LENSRAY_FAULT`).
