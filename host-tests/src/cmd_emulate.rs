@@ -56,6 +56,7 @@ const DEFAULT_TIMEOUT: u32 = 3600;
 pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     // The options of `render`, plus --board, --timeout and --soft-sqrt.
     let mut board = None;
+    let mut pico = false;
     let mut timeout = DEFAULT_TIMEOUT;
     let mut soft_sqrt = false;
     let mut rest = Vec::new();
@@ -63,11 +64,17 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     while let Some(a) = it.next() {
         match a.as_str() {
             "--board" => {
-                let name = it.next().ok_or("--board needs a value: microbit or mps2-an386")?;
-                let b = BOARDS
-                    .iter()
-                    .find(|b| b.name == name.as_str())
-                    .ok_or_else(|| Fail(format!("--board {name}: unknown board; use microbit or mps2-an386")))?;
+                let name = it.next().ok_or("--board needs a value: microbit, mps2-an386 or pico")?;
+                // Boards under another emulator than QEMU: the Pico under rp2040js.
+                if name == "pico" {
+                    pico = true;
+                    continue;
+                }
+                let b = BOARDS.iter().find(|b| b.name == name.as_str()).ok_or_else(|| {
+                    Fail(format!(
+                        "--board {name}: unknown board; use microbit, mps2-an386 or pico"
+                    ))
+                })?;
                 board = Some(b);
             }
             "--timeout" => timeout = parse_u32("--timeout", it.next(), 1, 86_400)?,
@@ -86,8 +93,15 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     let [scene_path] = o.positional.as_slice() else {
         return Err(Fail(format!("emulate takes one scene file\n{USAGE}")));
     };
-    let board = board.ok_or_else(|| Fail(format!("emulate needs --board microbit or --board mps2-an386\n{USAGE}")))?;
     let scene_path = Path::new(scene_path);
+    if pico {
+        return crate::emulate_pico::run(&o, scene_path, soft_sqrt, Duration::from_secs(timeout as u64));
+    }
+    let board = board.ok_or_else(|| {
+        Fail(format!(
+            "emulate needs --board microbit, --board mps2-an386 or --board pico\n{USAGE}"
+        ))
+    })?;
 
     // The scene first: a bad one fails here, exactly as `render` reports it.
     let aspect = if o.float {
@@ -171,10 +185,10 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
 
 /// A private directory for one run: the firmware's copy and QEMU's working
 /// directory (the rows file lands there). Removed when dropped.
-struct WorkDir(PathBuf);
+pub(crate) struct WorkDir(pub(crate) PathBuf);
 
 impl WorkDir {
-    fn new() -> Result<WorkDir, Fail> {
+    pub(crate) fn new() -> Result<WorkDir, Fail> {
         static N: AtomicU32 = AtomicU32::new(0);
         let dir = std::env::temp_dir().join(format!(
             "lensray-emulate-{}-{}",
@@ -268,7 +282,7 @@ impl Build<'_> {
 }
 
 /// The firmware crate: `$LENSRAY_FIRMWARE_DIR`, else `firmware/` of this source tree.
-fn firmware_dir() -> Result<PathBuf, Fail> {
+pub(crate) fn firmware_dir() -> Result<PathBuf, Fail> {
     let dir = match std::env::var_os("LENSRAY_FIRMWARE_DIR") {
         Some(d) => PathBuf::from(d),
         None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../firmware"),

@@ -20,6 +20,7 @@ mod cmd_compare;
 mod cmd_emulate;
 mod cmd_render;
 mod cmd_sheet;
+mod emulate_pico;
 mod opts;
 
 pub(crate) const USAGE: &str = "usage:
