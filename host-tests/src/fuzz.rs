@@ -577,7 +577,7 @@ fn statement(rng: &mut Rng) -> String {
 
 /// A whole scene from the grammar: camera lines, lights, then objects with
 /// their properties and transformations.
-fn scene_from_grammar(rng: &mut Rng) -> Vec<u8> {
+pub fn scene_from_grammar(rng: &mut Rng) -> Vec<u8> {
     let mut lines: Vec<String> = Vec::new();
     const CAMERA: [&str; 17] = [
         "focus_distance",
