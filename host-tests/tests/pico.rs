@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use lensray::{Scene, I16F16};
+use lensray::{Renderer, Scene, I16F16};
 use lensray_host::fuzz::{scene_from_grammar, Rng};
 use lensray_host::panel::PanelFormat;
 use lensray_host::{load_image, load_scene, render_image, Image};
@@ -68,13 +68,12 @@ fn panel_equals_host(scene: &Path, width: u32, height: u32, samples: u32) -> BTr
     assert!(o.status.success(), "{}", show(&o));
     let panel = load_image(&out).expect("read the panel's picture");
 
-    let host = render_image(
-        &load_scene::<I16F16>(scene).unwrap(),
-        width,
-        height,
-        Some(samples),
-        &|| {},
-    );
+    let parsed = load_scene::<I16F16>(scene).unwrap();
+    let host = render_image(&parsed, width, height, Some(samples), &|| {});
+    // A pinhole casts one ray a pixel whatever the samples.
+    let rays = Renderer::new(&parsed, width, height)
+        .with_samples(samples)
+        .rays_per_pixel();
     let want = PanelFormat::Rgb565.quantise(&host);
     let differing = panel.pixels.iter().zip(&want.pixels).filter(|(a, b)| a != b).count();
     assert_eq!(
@@ -108,12 +107,18 @@ fn panel_equals_host(scene: &Path, width: u32, height: u32, samples: u32) -> BTr
     assert_eq!(report.get("board").map(String::as_str), Some("pico"));
     assert_eq!(
         (get("width"), get("height"), get("rays")),
-        (width as f64, height as f64, samples as f64)
+        (width as f64, height as f64, rays as f64)
     );
     // Cycles a pixel and seconds at 125 MHz both come from the frame's cycles.
     let pixels = (width * height) as f64;
     assert_eq!(get("cycles_per_pixel"), (get("frame_cycles") / pixels).round());
     assert!((get("seconds_125mhz") - get("frame_cycles") / 125e6).abs() < 1e-6);
+    // Two cores, estimated from the bands' cycles: faster than one, at best twice as fast.
+    let two = get("two_core_estimate_cycles");
+    assert!(
+        two < get("frame_cycles") && two >= get("frame_cycles") / 2.0,
+        "{stdout}"
+    );
     // The progressive passes drew more pixels than the frame has (blocks, then finer blocks).
     assert!(get("pixels_written") > pixels, "{stdout}");
     report

@@ -29,6 +29,7 @@ const PIN_DC = 16;
 const PIN_CS = 17;
 const PIN_RST = 20;
 const PIN_LED = 25;
+const PIN_BAND = 22; // toggles as core 0 starts each band
 const NS_PER_CYCLE = 8; // 125 MHz
 /** The ST7789's fastest serial write clock (a 16 ns cycle). */
 const MAX_SPI_HZ = 62.5e6;
@@ -124,6 +125,12 @@ export function boot(elfBytes) {
     if (s === GPIOPinState.Low && state.ledOnNanos !== null && state.ledOffNanos === null) state.ledOffNanos = clock.nanos;
   });
 
+  // Band boundaries while the frame renders, for the two-core estimate.
+  state.bandNanos = [];
+  pin(PIN_BAND).addListener((s, old) => {
+    if (state.ledOnNanos !== null && state.ledOffNanos === null && s !== old) state.bandNanos.push(clock.nanos);
+  });
+
   const spi = mcu.spi[0];
   const done = clock.createAlarm(() => {
     const value = state.inFlight;
@@ -174,6 +181,55 @@ export function run({ mcu, clock, state, spi }) {
   }
 }
 
+/**
+ * The pass of each band, from the image's height and the band count: the
+ * schedule of firmware/pico (8x8 blocks, a one-ray preview when the frame
+ * has more rays, then 4x4, 2x2, 1x1), as lensray::progressive::Schedule makes it.
+ */
+export function bandPasses(height, count) {
+  for (const steps of [[8, 8, 4, 2, 1], [8, 4, 2, 1]]) {
+    const passes = steps.flatMap((step, p) => new Array(Math.ceil(height / step)).fill(p));
+    if (passes.length === count) return passes;
+  }
+  return null;
+}
+
+/**
+ * An estimate of the bands' time on two cores (ns), following two_cores.rs:
+ * bands taken in order by whichever core asks first; core 1 hands each band
+ * over and waits until core 0, between two of its own bands, draws it; core 0
+ * waits for core 1's band before drawing one of a later pass. Each band costs
+ * what it cost core 0 alone (render, record, draw on the panel), so core 1's
+ * share is slightly overcounted (it does not draw) and core 0's drawing of
+ * core 1's bands left out: an estimate, not a measurement.
+ */
+export function twoCores(durations, passes) {
+  const n = durations.length;
+  let next = 0;
+  let t0 = 0; // core 0's time
+  let core1 = null; // core 1's band in flight: { k, done }
+  let core1Asks = 0; // when core 1 next asks for a band (null: none left)
+  for (;;) {
+    // Core 1 takes the next band if it asks no later than core 0.
+    if (!core1 && core1Asks !== null && core1Asks <= t0) {
+      if (next < n) {
+        core1 = { k: next, done: core1Asks + durations[next] };
+        next++;
+      } else core1Asks = null;
+    }
+    if (next >= n) break;
+    const k = next++;
+    t0 += durations[k];
+    // Core 0 draws core 1's band now if it is of an earlier pass (waiting for it) or done.
+    if (core1 && (passes[core1.k] < passes[k] || core1.done <= t0)) {
+      t0 = Math.max(t0, core1.done);
+      core1 = null;
+      core1Asks = t0;
+    }
+  }
+  return core1 ? Math.max(t0, core1.done) : t0;
+}
+
 /** SPI mode from SSPCR0's SPO (CPOL, bit 6) and SPH (CPHA, bit 7); rp2040js's own `spiMode` swaps 2 and 3. */
 function spiMode(spi) {
   return (((spi.control0 >> 6) & 1) << 1) | ((spi.control0 >> 7) & 1);
@@ -212,10 +268,18 @@ function main() {
   }
   const { state, clock, mcu, panel } = emu;
   const cycles = (nanos) => Math.round(nanos / NS_PER_CYCLE);
+  const bands = [];
+  for (let i = 1; i < state.bandNanos.length; i++) bands.push(state.bandNanos[i] - state.bandNanos[i - 1]);
+  const passes = bandPasses(o.height, bands.length);
+  const estimate = passes
+    ? state.bandNanos[0] - state.ledOnNanos + twoCores(bands, passes) + (state.ledOffNanos - state.bandNanos.at(-1))
+    : 0;
   process.stdout.write(
     `emu setup_cycles=${cycles(state.ledOnNanos)} frame_cycles=${cycles(state.ledOffNanos - state.ledOnNanos)} ` +
       `total_cycles=${cycles(clock.nanos)} core_cycles=${mcu.core.cycles} spi_bytes=${state.spiBytes} ` +
-      `pixels_written=${panel.pixelsWritten} commands=${[...new Set(panel.commands)].join(',')}\n`,
+      `pixels_written=${panel.pixelsWritten} bands=${bands.length} ` +
+      `two_core_estimate_cycles=${cycles(estimate)} ` +
+      `commands=${[...new Set(panel.commands)].join(',')}\n`,
   );
 }
 

@@ -40,10 +40,15 @@
 #![no_std]
 #![no_main]
 
+mod bands;
+mod two_cores;
+
+use embedded_graphics_core::geometry::Size;
 use embedded_hal::delay::DelayNs;
 use embedded_hal::digital::OutputPin;
+use embedded_hal::digital::StatefulOutputPin;
 use embedded_hal_bus::spi::ExclusiveDevice;
-use lensray::progressive::{render_pass, Schedule};
+use lensray::progressive::Schedule;
 use lensray::{Renderer, Scene, I16F16};
 use mipidsi::interface::SpiInterface;
 use mipidsi::models::ST7789;
@@ -131,20 +136,39 @@ fn main() -> ! {
     };
     let _ = backlight.set_high();
 
-    // Parsed in place: no second copy of the scene on the stack.
-    let mut scene = Scene::<I16F16>::default();
+    // In a static, for both cores; parsed in place: no second copy of the scene.
+    let Some(scene) = cortex_m::singleton!(: Scene<I16F16> = Scene::default()) else {
+        halt()
+    };
     if let Err(e) = scene.parse_into(SCENE) {
         // build.rs parsed the same bytes, so this cannot happen.
         panic!("scene line {}: {}", e.line, e.kind)
     }
+    let scene: &'static Scene<I16F16> = scene;
     // The image in the panel's top-left corner (all of it by default: 320×240).
-    let renderer = Renderer::new(&scene, WIDTH, HEIGHT).with_samples(SAMPLES);
+    let renderer = Renderer::new(scene, WIDTH, HEIGHT).with_samples(SAMPLES);
+    // Coarse pass first, then refinements in place (see the module docs), cut
+    // into bands that both cores take (two_cores.rs).
+    let bands = bands::Bands::new(Schedule::new(8, 1, renderer.rays_per_pixel()), HEIGHT);
+    let size = Size::new(WIDTH, HEIGHT);
+    let Some(work) = cortex_m::singleton!(: two_cores::Work<'static> = two_cores::Work { renderer, bands, size })
+    else {
+        halt()
+    };
+    let work: &'static two_cores::Work<'static> = work;
+    let Some(own) = cortex_m::singleton!(: bands::Recorder = bands::Recorder::new(size)) else {
+        halt()
+    };
+    let _core1 = two_cores::start_core1(work, &pac.PSM, &pac.PPB);
+    // GP22 toggles as core 0 starts each band: a test point for timing bands.
+    let mut band_marker = pins.gpio22.into_push_pull_output();
     let _ = led.set_high();
-    // Coarse pass first, then refinements in place (see the module docs).
-    for pass in Schedule::new(8, 1, renderer.rays_per_pixel()) {
-        if render_pass(&renderer, &mut display, &pass).is_err() {
-            blink(&mut led, &mut timer)
-        }
+    if two_cores::render(work, &mut display, own, || {
+        let _ = band_marker.toggle();
+    })
+    .is_err()
+    {
+        blink(&mut led, &mut timer)
     }
     let _ = led.set_low();
     loop {

@@ -186,3 +186,16 @@ refuses('a picture while the display is off', (p) => {
   cmd(p, 0x28);
   p.picture('portrait', 1, 1);
 }, /display is off/);
+
+// The two-core estimate of run.js (not the panel, but pure arithmetic beside it).
+import { twoCores, bandPasses } from '../run.js';
+
+test('the two-core estimate: equal bands of one pass halve, one band does not, passes wait', () => {
+  assert.equal(twoCores([10, 10, 10, 10], [0, 0, 0, 0]), 20);
+  assert.equal(twoCores([10], [0]), 10);
+  // Core 1 takes the long band 0; core 0 cannot draw pass 1 before it is done, so it idles.
+  assert.equal(twoCores([100, 1, 1, 1], [0, 0, 0, 0]), 100);
+  assert.equal(twoCores([100, 1, 1, 1], [0, 1, 1, 1]), 101);
+  assert.deepEqual(bandPasses(16, 2 + 2 + 4 + 8 + 16), [0, 0, 1, 1, 2, 2, 2, 2, ...new Array(8).fill(3), ...new Array(16).fill(4)]);
+  assert.equal(bandPasses(16, 5), null);
+});
