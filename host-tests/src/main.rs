@@ -2,9 +2,9 @@
 //!
 //! ```text
 //! lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
-//!                      [--passes DIR [--first-step S] [--preview-samples P]]
+//!                      [--passes DIR [--first-step S] [--preview-samples P]] [--panel rgb565]
 //! lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT] [render options]
-//! lensray emulate SCENE --board microbit|mps2-an386 [-o OUT] [--width W] [--height H] [--samples N] [--float]
+//! lensray emulate SCENE --board microbit|mps2-an386|pico [-o OUT] [--width W] [--height H] [--samples N] [--float]
 //! lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
 //! lensray compare A.bmp B.bmp [--diff OUT]
 //! ```
@@ -26,10 +26,10 @@ mod opts;
 pub(crate) const USAGE: &str = "usage:
   lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
                        [--adaptive on|off]
-                       [--passes DIR [--first-step S] [--preview-samples P]]
+                       [--passes DIR [--first-step S] [--preview-samples P]] [--panel rgb565]
   lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT]
                        [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
-  lensray emulate SCENE --board microbit|mps2-an386 [-o OUT] [--width W] [--height H]
+  lensray emulate SCENE --board microbit|mps2-an386|pico [-o OUT] [--width W] [--height H]
                   [--samples N] [--float] [--soft-sqrt] [--timeout SECONDS]
   lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
   lensray compare A B [--diff OUT]
@@ -44,7 +44,9 @@ pub(crate) const USAGE: &str = "usage:
            a preview of SxS blocks (S = --first-step, default 8) with P lens
            samples (--preview-samples, default 1; 0 for none), then the same
            blocks and ever finer ones at the full samples; the last pass is
-           the plain render, also written to OUT.
+           the plain render, also written to OUT. --panel rgb565 writes the
+           image as a 16-bit panel shows it (each pixel to RGB 5-6-5 and back,
+           by embedded-graphics' conversions).
   sheet    renders each scene (--width default 320) and lays them side by side,
            C a row (default up to 4), each captioned with its file name and
            camera, under an optional title, into SHEET (default sheet.png).
@@ -54,6 +56,10 @@ pub(crate) const USAGE: &str = "usage:
            name, -BOARD.bmp) and prints its instructions per pixel and memory
            use. --width defaults to 160; --soft-sqrt takes f32 square roots in
            software even on the FPU board; --timeout (3600 s) bounds the run.
+           --board pico builds firmware/pico and runs it under rp2040js (Node)
+           with a model of its ST7789 panel: writes what the panel shows (equal
+           to render --panel rgb565) and prints cycles a pixel and the frame's
+           seconds at 125 MHz.
   compare  renders a scene with Q16.16 and with the f32 reference (same size,
            same samples; sizes as for render), or reads two images (.bmp or
            .png), and prints PSNR, mean and max error, the share of pixels

@@ -13,6 +13,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use embedded_graphics::pixelcolor::RgbColor;
 use lensray::{Renderer, Scene, I16F16};
 use lensray_host::fuzz::{scene_from_grammar, Rng};
 use lensray_host::panel::PanelFormat;
@@ -201,4 +202,52 @@ fn a_panic_or_a_fault_on_the_pico_fails_emulate_with_its_message() {
         );
         assert!(!out.exists(), "a picture was written for a failed run");
     }
+}
+
+#[test]
+fn render_panel_rgb565_shows_the_render_on_a_16_bit_panel() {
+    let scene = repo().join("scenes/pinhole-shapes.scene");
+    let out = tmp("panel-rgb565.png");
+    let _ = std::fs::remove_file(&out);
+    let o = Command::new(LENSRAY)
+        .arg("render")
+        .arg(&scene)
+        .args(["--width", "40", "--height", "30", "--panel", "rgb565", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", show(&o));
+    let shown = load_image(&out).unwrap();
+    let full = render_image(&load_scene::<I16F16>(&scene).unwrap(), 40, 30, None, &|| {});
+    // Each channel is one of the panel's 32 (red, blue) or 64 (green) levels,
+    // widened to 0..=255 with rounding, and the nearest such level to the render's.
+    let levels = |bits: u32| -> Vec<u8> {
+        let max = (1u32 << bits) - 1;
+        (0..=max).map(|k| ((k * 255 + max / 2) / max) as u8).collect()
+    };
+    let (five, six) = (levels(5), levels(6));
+    for (s, f) in shown.pixels.iter().zip(&full.pixels) {
+        for (v, orig, table, step) in [
+            (s.r(), f.r(), &five, 255.0 / 31.0),
+            (s.g(), f.g(), &six, 255.0 / 63.0),
+            (s.b(), f.b(), &five, 255.0 / 31.0),
+        ] {
+            assert!(table.contains(&v), "{v} is not a panel level");
+            assert!(
+                (v as f64 - orig as f64).abs() <= step / 2.0 + 1.0,
+                "{orig} shown as {v}"
+            );
+        }
+    }
+    assert_ne!(shown, full, "no pixel changed: nothing was quantised");
+
+    let bad = Command::new(LENSRAY)
+        .arg("render")
+        .arg(&scene)
+        .args(["--panel", "rgb666", "-o"])
+        .arg(tmp("panel-bad.png"))
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--panel rgb666: unknown panel format"));
 }

@@ -6,7 +6,11 @@
 //! each appears within about a second (1/(64 × 8) of the frame's rays), then
 //! the library's `progressive::Schedule` refines it in place, block size by
 //! block size, down to single pixels at full samples: the last pass leaves
-//! exactly what a plain `render_with` would draw.
+//! exactly what a plain `render_with` would draw. Both cores render: the
+//! passes are cut into bands of rows that core 1 takes while it runs and core
+//! 0 always; core 0 alone draws on the panel (`two_cores.rs`, `bands.rs`).
+//! `emu/` runs this firmware under rp2040js with a model of the panel
+//! (`lensray emulate --board pico`).
 //!
 //! Wiring (Pico pin number, GPIO → panel):
 //!
@@ -24,6 +28,7 @@
 //!  +--------------------+
 //! ```
 //!
+//! GP22 (pin 29) toggles as core 0 starts each band: a test point for timing.
 //! The on-board LED (GP25) is lit while rendering and goes out when the frame
 //! is done (the emulator harness, `emu/`, times the frame between the two);
 //! it blinks if anything fails. A panic leaves its message in RAM and stops
