@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # The firmware's checks, run by scripts/test-all.sh (or alone):
 #   bash scripts/firmware-tests.sh
-# Installs what is missing (thumb targets, qemu-system-arm, a size tool), then:
-# format and lint of the firmware crates (outside the main workspace, so the
-# workspace's clippy does not see them), the Raspberry Pi Pico firmware (built,
-# not run), the QEMU tests (both boards, bit for bit against the host's render,
-# instruction counts, RAM, faults) and the memory sizes.
+# Installs what is missing (thumb targets, qemu-system-arm, a size tool, Node
+# and rp2040js), then: format and lint of the firmware crates (outside the main
+# workspace, so the workspace's clippy does not see them), the QEMU tests (both
+# boards, bit for bit against the host's render, instruction counts, RAM,
+# faults), the Raspberry Pi Pico under rp2040js (its ST7789 model's own tests,
+# then the panel bit for bit against the host's Rgb565 render, and faults) and
+# the memory sizes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -31,7 +33,7 @@ cargo clippy --release --features mps2-an385 --target thumbv7m-none-eabi -- -D w
 cargo clippy --release --features mps2-an386,hw-sqrt --target thumbv7em-none-eabihf -- -D warnings
 cargo clippy --release -p lensray-pico --target thumbv6m-none-eabi -- -D warnings
 
-step "firmware: Raspberry Pi Pico with an ST7789 panel (built, not run)"
+step "firmware: Raspberry Pi Pico with an ST7789 panel (the default build: Program 1, 320x240, 8 rays)"
 cargo build --release -p lensray-pico --target thumbv6m-none-eabi
 "$size_tool" target/thumbv6m-none-eabi/release/lensray-pico
 
@@ -40,6 +42,12 @@ cd "$root"
 start=$(date +%s)
 cargo test -p lensray-host --test firmware -- --ignored --nocapture
 echo "QEMU tests took $(( $(date +%s) - start )) s (builds included)"
+
+step "firmware: the Pico under rp2040js, its panel bit for bit against the host's Rgb565 render"
+start=$(date +%s)
+(cd "$root/firmware/pico/emu" && node --test)
+cargo test -p lensray-host --test pico -- --ignored --nocapture
+echo "Pico tests took $(( $(date +%s) - start )) s (builds included)"
 
 step "firmware: memory of the default build (Program 1, 160x120, 4 rays a pixel)"
 cd "$root/firmware"

@@ -31,3 +31,15 @@ if [ -z "$size_tool" ]; then
     size_tool="$(rustc --print sysroot)/lib/rustlib/$(rustc -vV | sed -n 's/^host: //p')/bin/llvm-size"
   fi
 fi
+# The Pico's emulator: Node (18 or later) and rp2040js from the committed lockfile.
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+  as_root_apt nodejs npm || {
+    echo "node and npm are missing: install Node.js 18 or later (Debian: sudo apt-get install nodejs npm) and run again" >&2
+    exit 1
+  }
+fi
+pico_emu="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/firmware/pico/emu"
+if [ ! -f "$pico_emu/node_modules/rp2040js/package.json" ] ||
+   [ "$pico_emu/package-lock.json" -nt "$pico_emu/node_modules/.package-lock.json" ]; then
+  (cd "$pico_emu" && npm ci --no-audit --no-fund --loglevel=error)
+fi

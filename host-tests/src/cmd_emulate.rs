@@ -57,7 +57,8 @@ const BOARDS: [Board; 3] = [
 
 /// The boards' names, for messages: "a, b or c".
 fn board_names() -> String {
-    let names: Vec<&str> = BOARDS.iter().map(|b| b.name).collect();
+    // The QEMU boards, then the Pico (rp2040js).
+    let names: Vec<&str> = BOARDS.iter().map(|b| b.name).chain(["pico"]).collect();
     match names.split_last() {
         Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
         _ => names.join(""),
@@ -76,6 +77,7 @@ const DEFAULT_TIMEOUT: u32 = 3600;
 pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     // The options of `render`, plus --board, --timeout and --soft-sqrt.
     let mut board = None;
+    let mut pico = false;
     let mut timeout = DEFAULT_TIMEOUT;
     let mut soft_sqrt = false;
     let mut parse_on_device = false;
@@ -87,6 +89,11 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
                 let name = it
                     .next()
                     .ok_or_else(|| Fail(format!("--board needs a value: {}", board_names())))?;
+                // Boards under another emulator than QEMU: the Pico under rp2040js.
+                if name == "pico" {
+                    pico = true;
+                    continue;
+                }
                 let b = BOARDS
                     .iter()
                     .find(|b| b.name == name.as_str())
@@ -110,8 +117,11 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     let [scene_path] = o.positional.as_slice() else {
         return Err(Fail(format!("emulate takes one scene file\n{USAGE}")));
     };
-    let board = board.ok_or_else(|| Fail(format!("emulate needs --board {}\n{USAGE}", board_names())))?;
     let scene_path = Path::new(scene_path);
+    if pico {
+        return crate::emulate_pico::run(&o, scene_path, soft_sqrt, Duration::from_secs(timeout as u64));
+    }
+    let board = board.ok_or_else(|| Fail(format!("emulate needs --board {}\n{USAGE}", board_names())))?;
 
     // The scene first: a bad one fails here, exactly as `render` reports it.
     let aspect = if o.float {
@@ -201,10 +211,10 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
 
 /// A private directory for one run: the firmware's copy and QEMU's working
 /// directory (the rows file lands there). Removed when dropped.
-struct WorkDir(PathBuf);
+pub(crate) struct WorkDir(pub(crate) PathBuf);
 
 impl WorkDir {
-    fn new() -> Result<WorkDir, Fail> {
+    pub(crate) fn new() -> Result<WorkDir, Fail> {
         static N: AtomicU32 = AtomicU32::new(0);
         let dir = std::env::temp_dir().join(format!(
             "lensray-emulate-{}-{}",
@@ -302,7 +312,7 @@ impl Build<'_> {
 }
 
 /// The firmware crate: `$LENSRAY_FIRMWARE_DIR`, else `firmware/` of this source tree.
-fn firmware_dir() -> Result<PathBuf, Fail> {
+pub(crate) fn firmware_dir() -> Result<PathBuf, Fail> {
     let dir = match std::env::var_os("LENSRAY_FIRMWARE_DIR") {
         Some(d) => PathBuf::from(d),
         None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../firmware"),

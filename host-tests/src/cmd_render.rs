@@ -49,6 +49,11 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
             None => (render_with_progress(&scene, w, h, o.samples), I16F16::NAME),
         }
     };
+    // A panel's format is applied last, so --passes saves the full-depth passes.
+    let img = match o.panel {
+        Some(panel) => panel.quantise(&img),
+        None => img,
+    };
     let bytes = encode(&img, format)?;
     write_atomic(&out, &bytes).map_err(|e| Fail(format!("{}: cannot write: {e}", out.display())))?;
     eprintln!("wrote {} ({}x{}, {kind})", out.display(), img.width, img.height);

@@ -24,6 +24,9 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     if o.passes.is_some() {
         return Err(Fail("sheet does not take --passes".into()));
     }
+    if o.panel.is_some() {
+        return Err(Fail("sheet does not take --panel".into()));
+    }
     if o.positional.is_empty() {
         return Err(Fail(format!("sheet takes one or more scene files\n{USAGE}")));
     }

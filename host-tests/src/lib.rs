@@ -12,6 +12,7 @@ use rayon::prelude::*;
 
 pub mod canvas;
 pub mod fuzz;
+pub mod panel;
 pub mod passes;
 pub mod sheet;
 

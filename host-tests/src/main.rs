@@ -2,9 +2,9 @@
 //!
 //! ```text
 //! lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
-//!                      [--passes DIR [--first-step S] [--preview-samples P]]
+//!                      [--passes DIR [--first-step S] [--preview-samples P]] [--panel rgb565]
 //! lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT] [render options]
-//! lensray emulate SCENE --board microbit|mps2-an385|mps2-an386 [-o OUT] [--width W] [--height H] [--samples N] [--float]
+//! lensray emulate SCENE --board microbit|mps2-an385|mps2-an386|pico [-o OUT] [--width W] [--height H] [--samples N] [--float]
 //! lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
 //! lensray compare A.bmp B.bmp [--diff OUT]
 //! lensray bake SCENE [-o FILE] [--width W] [--height H] [--samples N] [--float]
@@ -22,15 +22,16 @@ mod cmd_compare;
 mod cmd_emulate;
 mod cmd_render;
 mod cmd_sheet;
+mod emulate_pico;
 mod opts;
 
 pub(crate) const USAGE: &str = "usage:
   lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
                        [--adaptive on|off]
-                       [--passes DIR [--first-step S] [--preview-samples P]]
+                       [--passes DIR [--first-step S] [--preview-samples P]] [--panel rgb565]
   lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT]
                        [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
-  lensray emulate SCENE --board microbit|mps2-an385|mps2-an386 [-o OUT] [--width W] [--height H]
+  lensray emulate SCENE --board microbit|mps2-an385|mps2-an386|pico [-o OUT] [--width W] [--height H]
                   [--samples N] [--float] [--soft-sqrt] [--parse-on-device] [--timeout SECONDS]
   lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
   lensray compare A B [--diff OUT]
@@ -46,7 +47,9 @@ pub(crate) const USAGE: &str = "usage:
            a preview of SxS blocks (S = --first-step, default 8) with P lens
            samples (--preview-samples, default 1; 0 for none), then the same
            blocks and ever finer ones at the full samples; the last pass is
-           the plain render, also written to OUT.
+           the plain render, also written to OUT. --panel rgb565 writes the
+           image as a 16-bit panel shows it (each pixel to RGB 5-6-5 and back,
+           by embedded-graphics' conversions).
   sheet    renders each scene (--width default 320) and lays them side by side,
            C a row (default up to 4), each captioned with its file name and
            camera, under an optional title, into SHEET (default sheet.png).
@@ -59,6 +62,10 @@ pub(crate) const USAGE: &str = "usage:
            scene's text and parses it on the board instead of the scene
            baked at build time; --timeout (3600 s) bounds the run. Boards:
            microbit (Cortex-M0), mps2-an385 (Cortex-M3), mps2-an386 (Cortex-M4F).
+           --board pico builds firmware/pico and runs it under rp2040js (Node)
+           with a model of its ST7789 panel: writes what the panel shows (equal
+           to render --panel rgb565) and prints cycles a pixel and the frame's
+           seconds at 125 MHz.
   compare  renders a scene with Q16.16 and with the f32 reference (same size,
            same samples; sizes as for render), or reads two images (.bmp or
            .png), and prints PSNR, mean and max error, the share of pixels

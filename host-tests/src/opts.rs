@@ -25,6 +25,8 @@ pub(crate) struct RenderOpts {
     pub(crate) first_step: Option<u32>,
     /// `--preview-samples N`: samples of the progressive preview (0: none).
     pub(crate) preview_samples: Option<u32>,
+    /// `--panel rgb565`: the image as a 16-bit panel shows it.
+    pub(crate) panel: Option<lensray_host::panel::PanelFormat>,
 }
 
 pub(crate) fn parse_u32(flag: &str, v: Option<&String>, lo: u32, hi: u32) -> Result<u32, Fail> {
@@ -68,6 +70,13 @@ pub(crate) fn parse_opts(args: &[String]) -> Result<RenderOpts, Fail> {
                 o.first_step = Some(parse_u32("--first-step", it.next(), 1, lensray::progressive::MAX_STEP)?)
             }
             "--preview-samples" => o.preview_samples = Some(parse_u32("--preview-samples", it.next(), 0, 65535)?),
+            "--panel" => {
+                let v = it.next().ok_or("--panel needs a value: rgb565")?;
+                o.panel = Some(
+                    lensray_host::panel::PanelFormat::parse(v)
+                        .ok_or_else(|| Fail(format!("--panel {v}: unknown panel format; use rgb565")))?,
+                );
+            }
             s if s.starts_with('-') && s.len() > 1 => return Err(Fail(format!("unknown option \"{s}\""))),
             _ => o.positional.push(a.clone()),
         }

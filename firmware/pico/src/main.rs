@@ -6,7 +6,11 @@
 //! each appears within about a second (1/(64 × 8) of the frame's rays), then
 //! the library's `progressive::Schedule` refines it in place, block size by
 //! block size, down to single pixels at full samples: the last pass leaves
-//! exactly what a plain `render_with` would draw.
+//! exactly what a plain `render_with` would draw. Both cores render: the
+//! passes are cut into bands of rows that core 1 takes while it runs and core
+//! 0 always; core 0 alone draws on the panel (`two_cores.rs`, `bands.rs`).
+//! `emu/` runs this firmware under rp2040js with a model of the panel
+//! (`lensray emulate --board pico`).
 //!
 //! Wiring (Pico pin number, GPIO → panel):
 //!
@@ -24,8 +28,13 @@
 //!  +--------------------+
 //! ```
 //!
+//! GP22 (pin 29) toggles as core 0 starts each band: a test point for timing.
 //! The on-board LED (GP25) is lit while rendering and goes out when the frame
-//! is done; it blinks if anything fails. Build: `cargo build --release` in
+//! is done (the emulator harness, `emu/`, times the frame between the two);
+//! it blinks if anything fails. A panic leaves its message in RAM and stops
+//! at `bkpt #0x50` with the message's address and length in r0 and r1, which
+//! the harness reports (on a board without a debugger the breakpoint becomes
+//! a HardFault, which blinks). Build: `cargo build --release` in
 //! this directory (target thumbv6m-none-eabi); flash: see README "Flashing the
 //! Pico". At 8 rays a pixel the frame takes on the order of a minute (about
 //! 0.12 M instructions a pixel, measured on the Cortex-M0 under QEMU).
@@ -36,10 +45,15 @@
 #![no_std]
 #![no_main]
 
+mod bands;
+mod two_cores;
+
+use embedded_graphics_core::geometry::Size;
 use embedded_hal::delay::DelayNs;
 use embedded_hal::digital::OutputPin;
+use embedded_hal::digital::StatefulOutputPin;
 use embedded_hal_bus::spi::ExclusiveDevice;
-use lensray::progressive::{render_pass, Schedule};
+use lensray::progressive::Schedule;
 use lensray::{Renderer, Scene, I16F16};
 use mipidsi::interface::SpiInterface;
 use mipidsi::models::ST7789;
@@ -54,10 +68,16 @@ use rp2040_hal::{pac, Sio, Spi, Timer, Watchdog};
 #[used]
 pub static BOOT2: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
 
-/// The scene, embedded in flash.
-static SCENE: &[u8] = include_bytes!("../../../scenes/paper-program1.scene");
-/// Rays per pixel: fewer than the scene's 70, so the frame takes about a minute.
-const SAMPLES: u32 = 8;
+/// Build-time settings written by build.rs: `SCENE`, `WIDTH`, `HEIGHT`,
+/// `SAMPLES` (8 by default: fewer than Program 1's 70, so the frame takes
+/// about a minute), `FAULT`.
+mod config {
+    include!(concat!(env!("OUT_DIR"), "/config.rs"));
+}
+use config::*;
+
+/// The breakpoint a panic stops at, for the emulator harness ("P").
+const PANIC_BKPT: u8 = 0x50;
 /// The Pico's crystal.
 const XTAL_HZ: u32 = 12_000_000;
 /// The ST7789's SPI clock ceiling (its write cycle is 16 ns).
@@ -68,6 +88,12 @@ fn main() -> ! {
     let Some(mut pac) = pac::Peripherals::take() else {
         halt()
     };
+    match FAULT {
+        "panic" => panic!("failing on purpose (LENSRAY_FAULT=panic)"),
+        // SAFETY: an undefined instruction, to test how a HardFault is reported.
+        "hardfault" => unsafe { core::arch::asm!("udf #0") },
+        _ => {}
+    }
     let mut watchdog = Watchdog::new(pac.WATCHDOG);
     let Ok(clocks) = init_clocks_and_plls(
         XTAL_HZ,
@@ -115,19 +141,39 @@ fn main() -> ! {
     };
     let _ = backlight.set_high();
 
-    // Parsed in place: no second copy of the scene on the stack.
-    let mut scene = Scene::<I16F16>::default();
-    if scene.parse_into(SCENE).is_err() {
-        blink(&mut led, &mut timer)
+    // In a static, for both cores; parsed in place: no second copy of the scene.
+    let Some(scene) = cortex_m::singleton!(: Scene<I16F16> = Scene::default()) else {
+        halt()
+    };
+    if let Err(e) = scene.parse_into(SCENE) {
+        // build.rs parsed the same bytes, so this cannot happen.
+        panic!("scene line {}: {}", e.line, e.kind)
     }
-    // The panel in landscape: 320×240, the scene's 1.33 aspect ratio.
-    let renderer = Renderer::new(&scene, 320, 240).with_samples(SAMPLES);
+    let scene: &'static Scene<I16F16> = scene;
+    // The image in the panel's top-left corner (all of it by default: 320×240).
+    let renderer = Renderer::new(scene, WIDTH, HEIGHT).with_samples(SAMPLES);
+    // Coarse pass first, then refinements in place (see the module docs), cut
+    // into bands that both cores take (two_cores.rs).
+    let bands = bands::Bands::new(Schedule::new(8, 1, renderer.rays_per_pixel()), HEIGHT);
+    let size = Size::new(WIDTH, HEIGHT);
+    let Some(work) = cortex_m::singleton!(: two_cores::Work<'static> = two_cores::Work { renderer, bands, size })
+    else {
+        halt()
+    };
+    let work: &'static two_cores::Work<'static> = work;
+    let Some(own) = cortex_m::singleton!(: bands::Recorder = bands::Recorder::new(size)) else {
+        halt()
+    };
+    let _core1 = two_cores::start_core1(work, &pac.PSM, &pac.PPB);
+    // GP22 toggles as core 0 starts each band: a test point for timing bands.
+    let mut band_marker = pins.gpio22.into_push_pull_output();
     let _ = led.set_high();
-    // Coarse pass first, then refinements in place (see the module docs).
-    for pass in Schedule::new(8, 1, renderer.rays_per_pixel()) {
-        if render_pass(&renderer, &mut display, &pass).is_err() {
-            blink(&mut led, &mut timer)
-        }
+    if two_cores::render(work, &mut display, own, || {
+        let _ = band_marker.toggle();
+    })
+    .is_err()
+    {
+        blink(&mut led, &mut timer)
     }
     let _ = led.set_low();
     loop {
@@ -152,7 +198,50 @@ fn halt() -> ! {
     }
 }
 
+/// The last failure's message, for the harness or a debugger to read.
+static mut FAILURE: Message = Message { buf: [0; 200], len: 0 };
+
+/// A message that is cut short rather than fail to be written.
+struct Message {
+    buf: [u8; 200],
+    len: usize,
+}
+
+impl core::fmt::Write for Message {
+    fn write_str(&mut self, s: &str) -> core::fmt::Result {
+        let room = self.buf.len() - self.len;
+        let n = s.len().min(room);
+        self.buf[self.len..self.len + n].copy_from_slice(&s.as_bytes()[..n]);
+        self.len += n;
+        Ok(())
+    }
+}
+
 #[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
+fn panic(info: &core::panic::PanicInfo) -> ! {
+    cortex_m::interrupt::disable();
+    // SAFETY: interrupts are off and nothing runs after a panic but this.
+    let msg = unsafe { &mut *core::ptr::addr_of_mut!(FAILURE) };
+    msg.len = 0;
+    let _ = core::fmt::write(msg, format_args!("{info}"));
+    // SAFETY: a breakpoint; the harness reads r0/r1, a bare board HardFaults.
+    unsafe {
+        core::arch::asm!("bkpt #{n}", n = const PANIC_BKPT, in("r0") msg.buf.as_ptr(), in("r1") msg.len);
+    }
     halt()
+}
+
+#[cortex_m_rt::exception]
+unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
+    // SAFETY: a fault ends the program; nothing else touches the message now.
+    let msg = unsafe { &mut *core::ptr::addr_of_mut!(FAILURE) };
+    if msg.len == 0 {
+        let _ = core::fmt::write(msg, format_args!("HardFault at pc {:#010x}", frame.pc()));
+    }
+    // The LED on GP25 toggles about twice a second at 125 MHz (no timer needed).
+    loop {
+        // SAFETY: SIO's XOR alias of GPIO_OUT touches the LED's bit alone.
+        unsafe { (*pac::SIO::ptr()).gpio_out_xor().write(|w| w.bits(1 << 25)) };
+        cortex_m::asm::delay(30_000_000);
+    }
 }
