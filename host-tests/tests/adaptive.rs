@@ -147,6 +147,10 @@ fn the_scene_keyword_and_the_cli_flag_turn_it_on() {
     assert!(s.camera.adaptive && Renderer::new(&s, 4, 3).is_adaptive());
     let s = Scene::<I16F16>::parse("adaptive on\nadaptive off\n").unwrap();
     assert!(!s.camera.adaptive);
+    let s = Scene::<I16F16>::parse("sampler independent\n").unwrap();
+    assert_eq!(Renderer::new(&s, 4, 3).sampler(), Sampler::Independent);
+    let s = Scene::<I16F16>::parse("sampler independent\nsampler stratified\n").unwrap();
+    assert_eq!(s.camera.sampler, Sampler::Stratified);
     let err = Scene::<I16F16>::parse("adaptive maybe\n").unwrap_err();
     assert_eq!(err.to_string(), "line 1: adaptive: \"maybe\" must be on or off");
 }
@@ -179,6 +183,30 @@ fn the_render_flag_overrides_the_scene() {
     let bad = run("maybe", "bad.bmp");
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--adaptive maybe: must be on or off"));
+    // --sampler: the independent render differs, and the command prints its rays.
+    let ind = std::process::Command::new(env!("CARGO_BIN_EXE_lensray"))
+        .arg("render")
+        .arg(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/paper-program1.scene"))
+        .args([
+            "--width",
+            "40",
+            "--samples",
+            "24",
+            "--adaptive",
+            "off",
+            "--sampler",
+            "independent",
+            "-o",
+        ])
+        .arg(dir.join("ind.bmp"))
+        .output()
+        .unwrap();
+    assert!(ind.status.success());
+    assert_eq!(String::from_utf8_lossy(&ind.stdout), "rays per pixel: 24.00\n");
+    assert!(lensray_host::load_image(&dir.join("ind.bmp")).unwrap().pixels != off.pixels);
+    let on_out = String::from_utf8_lossy(&run("on", "on.bmp").stdout).into_owned();
+    let rays: f64 = on_out.trim().strip_prefix("rays per pixel: ").unwrap().parse().unwrap();
+    assert!(rays >= 16.0 && rays < 24.0, "{on_out}");
 }
 
 #[test]
