@@ -76,11 +76,14 @@ struct LevelStats {
 impl LevelStats {
     /// Adds sample `k` (0-based) of a pixel whose next check is at `check` samples.
     fn add<S: Scalar>(&mut self, k: u32, check: u32, c: Vec3<S>) {
-        let level = |x: S| x.mul(S::from_i32(255)).floor_i32().clamp(0, 65535) as u64;
-        let q = (k / (check / 4).max(1)).min(3) as usize;
+        let level = |x: S| x.to_level();
+        // check is a power of two: k / (check / 4) by a shift (no divide on the M0).
+        let shift = check.trailing_zeros().saturating_sub(2);
+        let q = (k >> shift).min(3) as usize;
         for (i, l) in [level(c.x), level(c.y), level(c.z)].into_iter().enumerate() {
-            self.quarter[q][i] += l;
-            self.sum_sq[i] += l * l;
+            self.quarter[q][i] += l as u64;
+            // l < 2¹⁶: the square fits a u32 (no 64-bit multiply on the M0).
+            self.sum_sq[i] += (l * l) as u64;
         }
     }
 
@@ -96,17 +99,22 @@ impl LevelStats {
     fn settled(&self, n: u32, full: u32) -> bool {
         let (n, h, full) = (n as u128, (n / 4) as u128, full as u128);
         let (t, rel, gain) = (ADAPTIVE_VAR_SIXTEENTHS, ADAPTIVE_REL_SIXTEENTHS, ADAPTIVE_MAX_GAIN);
+        // The same for every channel: computed once (128-bit products are
+        // library calls on the M0).
+        let quarters_bound = 192 * h * h;
+        let abs_q = quarters_bound * t;
+        let abs_s = gain * t * n * n * (n - 1);
+        let rel_q = full * 16 * n * (n - 1);
+        let rel_ok = full * 16 <= rel * n * gain;
         (0..3).all(|i| {
             let q: [u128; 4] = core::array::from_fn(|j| self.quarter[j][i] as u128);
             let total = q[0] + q[1] + q[2] + q[3];
             let spread_q: u128 = q.iter().map(|&x| (4 * x).abs_diff(total).pow(2)).sum();
             let spread = (n * self.sum_sq[i] as u128).saturating_sub(total * total);
             // V_q <= t/16 and s²/(n G) <= t/16.
-            let absolute = spread_q * 16 <= 192 * h * h * t && spread * 16 <= gain * t * n * n * (n - 1);
+            let absolute = spread_q * 16 <= abs_q && spread * 16 <= abs_s;
             // V_q <= (rel/16) s²/full and s²/(n G) <= (rel/16) s²/full.
-            let relative =
-                spread_q * full * 16 * n * (n - 1) <= rel * spread * 192 * h * h && full * 16 <= rel * n * gain;
-            absolute || relative
+            absolute || (rel_ok && spread_q * rel_q <= rel * spread * quarters_bound)
         })
     }
 
