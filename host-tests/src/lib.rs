@@ -14,6 +14,7 @@ pub mod canvas;
 pub mod convergence;
 pub mod fuzz;
 pub mod passes;
+pub mod scenegen;
 pub mod sheet;
 
 /// An RGB image in memory, row-major from the top-left.
