@@ -11,7 +11,9 @@
 //! Writes a Markdown section to `target/sampling.md` (or `LENSRAY_SAMPLING_OUT`)
 //! and the plot to `docs/sampling.png` (or `LENSRAY_SAMPLING_PLOT`). Size
 //! `LENSRAY_SAMPLING_WIDTH` (320; height from 4:3), reference samples
-//! `LENSRAY_SAMPLING_REFERENCE` (2048, stratified f32; cached under
+//! `LENSRAY_SAMPLING_GENERATED` (4): how many of the scene generator's lens
+//! scenes (seeds 1..), each also at `point 70`; `LENSRAY_SAMPLING_SCENES`: the
+//! folder instead of `scenes/`. `LENSRAY_SAMPLING_REFERENCE` (2048, stratified f32; cached under
 //! `target/converged/`), checked against a reference of a quarter the samples.
 
 use std::path::{Path, PathBuf};
@@ -62,14 +64,27 @@ fn main() {
     let w = env_u32("LENSRAY_SAMPLING_WIDTH", 320);
     let h = w * 3 / 4;
     let ref_n = env_u32("LENSRAY_SAMPLING_REFERENCE", 2048);
-    let mut scenes = lens_scenes(&root.join("scenes"));
+    let dir = std::env::var_os("LENSRAY_SAMPLING_SCENES").map_or(root.join("scenes"), PathBuf::from);
+    let mut scenes = lens_scenes(&dir);
     if let Some(extra) = std::env::var_os("LENSRAY_SAMPLING_EXTRA") {
         scenes.extend(lens_scenes(Path::new(&extra)));
     }
+    let mut named: Vec<(String, String)> = scenes
+        .iter()
+        .map(|p| {
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            (name, std::fs::read_to_string(p).unwrap())
+        })
+        .collect();
+    // The random scene generator's lens scenes (host-tests/src/scenegen.rs), as
+    // generated (their `point` is 1 to 64) and at `point 70`.
+    for seed in 1..=env_u32("LENSRAY_SAMPLING_GENERATED", 4) as u64 {
+        let text = lensray_host::scenegen::generate_lens(seed);
+        named.push((format!("generated-lens-{seed}"), text.clone()));
+        named.push((format!("generated-lens-{seed}@70"), text + "\npoint 70\n"));
+    }
     let mut rows = Vec::new();
-    for path in &scenes {
-        let text = std::fs::read_to_string(path).unwrap();
-        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+    for (name, text) in named {
         let point = Scene::<f32>::parse(&text).unwrap().camera.samples;
         eprintln!("{name}: references ({ref_n} and {} samples, f32, {w}x{h})", ref_n / 4);
         let truth = reference(&text, w, h, ref_n, Sampler::Stratified).unwrap();

@@ -71,7 +71,14 @@ pub fn cache_dir() -> PathBuf {
 /// The converged reference of `text` at `w`×`h`: f32, `samples` lens samples
 /// of `sampler`, not adaptive; from the cache when it is there.
 pub fn reference(text: &str, w: u32, h: u32, samples: u32, sampler: Sampler) -> Result<Image, String> {
-    let key = format!("{CACHE_VERSION}|{w}x{h}|{samples}|{sampler:?}|{text}");
+    // `point` and `adaptive` do not change a reference (its samples are
+    // given, every one cast): left out of the key, so variants share it.
+    let stripped: String = text
+        .lines()
+        .filter(|l| !matches!(l.split_whitespace().next(), Some("point" | "adaptive")))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let key = format!("{CACHE_VERSION}|{w}x{h}|{samples}|{sampler:?}|{stripped}");
     let path = cache_dir().join(format!(
         "{:016x}-{w}x{h}-{samples}-{sampler:?}.png",
         fnv(key.as_bytes())
