@@ -545,6 +545,14 @@ impl Gen {
             let on = if self.rng.chance(0.5) { "on" } else { "off" };
             self.line("adaptive", &[on.into()]);
         }
+        if self.rng.chance(0.2) {
+            let sampler = if self.rng.chance(0.5) {
+                "independent"
+            } else {
+                "stratified"
+            };
+            self.line("sampler", &[sampler.into()]);
+        }
     }
 
     fn light(&mut self, view: &View) {
@@ -823,6 +831,8 @@ mod tests {
             "rotate z",
             "shadows on",
             "adaptive on",
+            "sampler independent",
+            "sampler stratified",
             "\t",
             "ünïcödé",
         ] {
