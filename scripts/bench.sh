@@ -10,7 +10,10 @@
 # - host rays per second (criterion, host-tests/benches/render.rs), one thread
 #   and all cores, with the machine's load, and the parallel speedup measured
 #   in pairs beside the machine's ceiling for the same work (whole frames side
-#   by side: host-tests/benches/speedup.rs).
+#   by side: host-tests/benches/speedup.rs);
+# - lens sampling: PSNR against converged references by rays a pixel,
+#   independent against stratified, and the default adaptive render
+#   (host-tests/benches/sampling.rs, also docs/sampling.png).
 # Takes about 15-25 minutes on 2 cores (firmware builds with fat LTO dominate).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -129,6 +132,11 @@ done
 min_speedup=$(printf '%s\n' "${speedups[@]}" | sort -g | head -1)
 floor_speedup=$(awk -v r="$min_speedup" 'BEGIN { print (r >= 1.8) ? "met" : "NOT met" }')
 
+# Lens sampling against converged references (host-tests/benches/sampling.rs;
+# alone: bash scripts/bench-sampling.sh). References are cached in target/converged/.
+step "host: lens sampling against converged references (host-tests/benches/sampling.rs)"
+LENSRAY_SAMPLING_OUT="$work/sampling.md" cargo bench -q -p lensray-host --bench sampling >&2
+
 step "writing $out"
 {
   echo "# lensray benchmarks"
@@ -235,5 +243,12 @@ step "writing $out"
   echo "An efficiency of 1 or more means the render uses all the parallelism the"
   echo "machine gave; a speedup below the floor with the ceiling below it too is the"
   echo "machine's, not the code's."
+  echo
+  echo "## Lens sampling"
+  echo
+  echo "\`cargo bench -p lensray-host --bench sampling\` (alone: \`bash scripts/bench-sampling.sh\`;"
+  echo "plot: [docs/sampling.png](docs/sampling.png)). Every lens scene of \`scenes/\`."
+  echo
+  cat "$work/sampling.md"
 } >"$out"
 cat "$out"

@@ -38,10 +38,13 @@ pub struct Aperture {
     edges: [(i16, i16); MAX_BLADES as usize],
     /// The polygon's inradius cos(π/n) in Q2.29, the same for every edge.
     inradius: i32,
+    /// Corner `k` in Q1.15 (on the unit circle, rounded towards the centre):
+    /// what [`Aperture::map_q16`] interpolates along the rim.
+    corners: [(i16, i16); MAX_BLADES as usize],
 }
 
 impl crate::baked::Field for Aperture {
-    crate::baked::baked_fields!(Aperture { blades, edges, inradius }, check(ap) {
+    crate::baked::baked_fields!(Aperture { blades, edges, inradius, corners }, check(ap) {
         if ap.blades != 0 && !(3..=MAX_BLADES as u8).contains(&ap.blades) {
             return Err(crate::baked::BakeError::OutOfRange("aperture blades not 0 or 3..=16"));
         }
@@ -66,6 +69,7 @@ impl Aperture {
         blades: 0,
         edges: [(0, 0); MAX_BLADES as usize],
         inradius: 0,
+        corners: [(0, 0); MAX_BLADES as usize],
     };
 
     /// A regular polygon of `blades` sides inscribed in the unit circle, with a
@@ -90,7 +94,42 @@ impl Aperture {
             let (s, co) = sin_cos_degrees(angle);
             *e = (libm::round(co * NORMAL_ONE) as i16, libm::round(s * NORMAL_ONE) as i16);
         }
+        for (k, c) in ap.corners.iter_mut().take(n as usize).enumerate() {
+            let (s, co) = sin_cos_degrees(rotation_degrees + 360.0 * k as f64 / n as f64);
+            // Truncated towards 0: the corner stays within the unit circle.
+            *c = ((co * 32767.0) as i16, (s * 32767.0) as i16);
+        }
         ap
+    }
+
+    /// The point of the aperture that the unit-square point (`u`, `v`) (16-bit
+    /// fractions) maps to, Q1.15: an area-preserving map, so uniform points
+    /// of the square give uniform points of the aperture and equal strata of
+    /// the square give strata of equal area.
+    ///
+    /// Polar: the distance from the centre is √u of the rim's, and `v` goes
+    /// once round the rim (a full turn for the disk; for a polygon, sector
+    /// `⌊v n⌋` from corner to corner, linearly). Integers only: a 16-step
+    /// square root and, for the disk, a quarter-wave table of sines.
+    #[inline]
+    pub fn map_q16(&self, u: u16, v: u16) -> (i32, i32) {
+        // Q0.15 radius: √((u + ½) / 2¹⁶), below 1 (the sample at the stratum's middle bit).
+        let r = isqrt_u32((((u as u32) << 1) | 1) << 13) as i32;
+        let (rim_x, rim_y) = if self.blades == 0 {
+            (sin_q15(v.wrapping_add(0x4000)), sin_q15(v))
+        } else {
+            let n = self.blades as u32;
+            let t = v as u32 * n;
+            let k = (t >> 16) as usize;
+            // Q0.15: (b − a) f stays within an i32.
+            let f = ((t & 0xFFFF) >> 1) as i32;
+            let (a, b) = (self.corners[k], self.corners[(k + 1) % n as usize]);
+            // a + f (b − a), the chord: inside the polygon, within the circle.
+            let lerp = |a: i16, b: i16| a as i32 + (((b as i32 - a as i32) * f) >> 15);
+            (lerp(a.0, b.0), lerp(a.1, b.1))
+        };
+        // Truncated towards 0: |point| <= r |rim| < 1.
+        ((r * rim_x) / 32768, (r * rim_y) / 32768)
     }
 
     /// Number of sides; 0 for round.
@@ -129,6 +168,67 @@ impl Aperture {
             }
         }
         (0, 0)
+    }
+}
+
+/// ⌊√x⌋, bit by bit (16 steps of shifts and compares: no multiply, no divide).
+#[inline]
+pub fn isqrt_u32(x: u32) -> u32 {
+    let (mut x, mut root) = (x, 0u32);
+    let mut bit = 1u32 << 30;
+    while bit > x {
+        bit >>= 2;
+    }
+    while bit != 0 {
+        if x >= root + bit {
+            x -= root + bit;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+        bit >>= 2;
+    }
+    root
+}
+
+/// sin(2π k / 1024) · 32767 rounded, k = 0..=256: a quarter wave (514 bytes of flash).
+const QUARTER_SINE: [i16; 257] = {
+    let mut t = [0i16; 257];
+    let mut k = 0;
+    while k <= 256 {
+        // Taylor series to x^23 (|x| <= π/2: error below 1e-15).
+        let x = core::f64::consts::PI / 2.0 * k as f64 / 256.0;
+        let (mut term, mut sum, mut n) = (x, x, 1.0);
+        while n < 23.0 {
+            term = -term * x * x / ((n + 1.0) * (n + 2.0));
+            sum += term;
+            n += 2.0;
+        }
+        let y = sum * 32767.0 + 0.5;
+        t[k] = y as i16;
+        k += 1;
+    }
+    t
+};
+
+/// sin of `turn` / 2¹⁶ of a full turn, Q1.15 (at most 32767), by the table,
+/// interpolated linearly (error at most 1.5 Q1.15 steps: two roundings).
+#[inline]
+pub fn sin_q15(turn: u16) -> i32 {
+    let p = (turn & 0x3FFF) as u32;
+    // Odd quadrants run the quarter wave backwards.
+    let p = if turn & 0x4000 != 0 { 0x4000 - p } else { p };
+    let (i, f) = ((p >> 6) as usize, (p & 63) as i32);
+    let m = if i >= 256 {
+        QUARTER_SINE[256] as i32
+    } else {
+        let (a, b) = (QUARTER_SINE[i] as i32, QUARTER_SINE[i + 1] as i32);
+        a + (((b - a) * f + 32) >> 6)
+    };
+    if turn & 0x8000 != 0 {
+        -m
+    } else {
+        m
     }
 }
 
@@ -230,5 +330,70 @@ mod tests {
         let corr = cov / (vx * vy).sqrt();
         assert!(corr.abs() < 0.02, "correlation {corr}");
         assert!(mx.abs() < 0.01 && my.abs() < 0.01, "mean ({mx}, {my})");
+    }
+
+    #[test]
+    fn the_table_sine_is_within_one_and_a_half_steps() {
+        for t in (0..=u16::MAX).step_by(7) {
+            let exact = (t as f64 / 65536.0 * 2.0 * PI).sin() * 32767.0;
+            assert!(
+                (sin_q15(t) as f64 - exact).abs() <= 1.5,
+                "turn {t}: {} vs {exact}",
+                sin_q15(t)
+            );
+        }
+        assert_eq!(sin_q15(0x4000), 32767);
+        assert_eq!(sin_q15(0xC000), -32767);
+        for x in [0u32, 1, 2, 3, 4, 99, 1 << 20, (1 << 30) - 1, u32::MAX] {
+            let r = isqrt_u32(x) as u64;
+            assert!(r * r <= x as u64 && (r + 1) * (r + 1) > x as u64, "{x}");
+        }
+    }
+
+    /// 10⁵ uniform points of the square from an LCG, mapped onto the aperture.
+    fn mapped(ap: &Aperture) -> std::vec::Vec<(f64, f64)> {
+        let mut s = 12345u64;
+        (0..100_000)
+            .map(|_| {
+                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                let (u, v) = ((s >> 48) as u16, (s >> 32) as u16);
+                let (x, y) = ap.map_q16(u, v);
+                assert!(ap.contains_q15(x, y) || ap.blades() > 0, "({x}, {y}) outside the disk");
+                (x as f64 / 32768.0, y as f64 / 32768.0)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_square_maps_onto_the_aperture_uniformly() {
+        // The disk: 4 rings x 8 sectors of equal area.
+        let mut counts = [0u32; 32];
+        for (x, y) in mapped(&Aperture::ROUND) {
+            let ring = ((((x * x + y * y) * 4.0) as usize).min(3)) * 8;
+            let a = y.atan2(x) + PI;
+            counts[ring + ((a / (2.0 * PI) * 8.0) as usize).min(7)] += 1;
+        }
+        let e = 100_000.0 / 32.0;
+        let chi2: f64 = counts.iter().map(|&c| (c as f64 - e).powi(2) / e).sum();
+        assert!(chi2 < 61.1, "disk: chi-square {chi2}");
+        // Polygons: inside, and uniform over the cells of the rejection test above.
+        for (n, rot) in [(3, 90.0), (5, 0.0), (6, 15.0), (16, 7.0)] {
+            let ap = Aperture::regular(n, rot);
+            let mut counts = vec![0u32; n as usize * 4];
+            for p in mapped(&ap) {
+                let (g, k) = gauge(n, rot, p);
+                assert!(g < 1.0 + 1e-4, "{n} blades: {p:?} outside, gauge {g}");
+                counts[k * 4 + ((g * g * 4.0) as usize).min(3)] += 1;
+            }
+            let e = 100_000.0 / counts.len() as f64;
+            let chi2: f64 = counts.iter().map(|&c| (c as f64 - e).powi(2) / e).sum();
+            let limit = match n {
+                3 => 31.3,
+                5 => 43.8,
+                6 => 49.7,
+                _ => 103.4,
+            };
+            assert!(chi2 < limit, "{n} blades: chi-square {chi2}, counts {counts:?}");
+        }
     }
 }

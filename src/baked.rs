@@ -61,7 +61,9 @@ use core::fmt;
 
 use crate::camera::{Camera, MAX_IMAGE_SIDE};
 use crate::cull::LensCones;
+use crate::footprint::BrightFootprints;
 use crate::render::Renderer;
+use crate::sampler::Sampler;
 use crate::scalar::Scalar;
 use crate::scene::{Scene, MAX_OBJECTS};
 use crate::shape::Shape;
@@ -71,7 +73,7 @@ use fixed::types::I16F16;
 /// The first four bytes of every baked scene.
 pub const MAGIC: [u8; 4] = *b"LRBK";
 /// The format this library writes and reads. Bump it when any baked struct changes.
-pub const FORMAT_VERSION: u16 = 1;
+pub const FORMAT_VERSION: u16 = 2;
 /// Bytes before the payload: magic, version, number type, reserved, length.
 pub const HEADER_LEN: usize = 12;
 /// Bytes after the payload: the CRC-32.
@@ -464,12 +466,16 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
         cones,
         samples,
         adaptive,
+        sampler,
+        bright,
     } = r;
     put_scene(scene, w);
     camera.put(w);
     cones.put(w);
     samples.put(w);
     adaptive.put(w);
+    sampler.put(w);
+    bright.put(w);
 }
 
 fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
@@ -533,6 +539,8 @@ pub struct Baked<S: BakeScalar> {
     cones: LensCones<S>,
     samples: u32,
     adaptive: bool,
+    sampler: Sampler,
+    bright: BrightFootprints,
 }
 
 impl<S: BakeScalar> Baked<S> {
@@ -544,6 +552,8 @@ impl<S: BakeScalar> Baked<S> {
             cones: LensCones::blank(),
             samples: 1,
             adaptive: false,
+            sampler: Sampler::default(),
+            bright: BrightFootprints::blank(),
         }
     }
 
@@ -629,6 +639,8 @@ impl<S: BakeScalar> Baked<S> {
         self.cones.take(r)?;
         self.samples.take(r)?;
         self.adaptive.take(r)?;
+        self.sampler.take(r)?;
+        self.bright.take(r)?;
         // One cone per object: the cull looks an object's cone up by its index.
         if self.cones.len() != self.scene.objects.len() {
             return Err(BakeError::OutOfRange("lens cones do not match the objects"));
@@ -643,6 +655,7 @@ impl<S: BakeScalar> Baked<S> {
         // The statements the renderer still reads from the scene's camera.
         self.scene.camera.samples = self.samples;
         self.scene.camera.adaptive = self.adaptive;
+        self.scene.camera.sampler = self.sampler;
         Ok(())
     }
 
@@ -654,6 +667,8 @@ impl<S: BakeScalar> Baked<S> {
             cones: self.cones.clone(),
             samples: self.samples,
             adaptive: self.adaptive,
+            sampler: self.sampler,
+            bright: self.bright.clone(),
         }
     }
 

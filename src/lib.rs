@@ -47,8 +47,8 @@
 //!
 //! [`scalar`] (the number trait), [`vec3`], [`transform`], [`lfsr`],
 //! [`aperture`], [`camera`], [`film`] (a pixel's exact ray directions),
-//! [`cull`] (which objects a lens ray can reach), [`autofocus`],
-//! [`progressive`], [`shape`], [`scene`], [`parse`], [`mod@render`],
+//! [`cull`] (which objects a lens ray can reach), [`footprint`] (where bright objects' bokeh can fall), [`autofocus`],
+//! [`sampler`] (independent or stratified lens points), [`progressive`], [`shape`], [`scene`], [`parse`], [`mod@render`],
 //! [`baked`] (a renderer set up on the host, as checked bytes for flash).
 
 #![cfg_attr(not(test), no_std)]
@@ -60,11 +60,13 @@ pub mod baked;
 pub mod camera;
 pub mod cull;
 pub mod film;
+pub mod footprint;
 pub mod lfsr;
 pub mod parse;
 mod plane;
 pub mod progressive;
 pub mod render;
+pub mod sampler;
 pub mod scalar;
 pub mod scene;
 pub mod shape;

@@ -7,6 +7,7 @@
 
 use core::fmt;
 
+use crate::sampler::Sampler;
 use crate::scalar::Scalar;
 use crate::scene::{Light, Object, ObjectDesc, Scene, DEFAULT_MATERIAL, MATERIALS, MAX_LIGHTS, MAX_OBJECTS};
 use crate::shape::Shape;
@@ -96,6 +97,8 @@ pub enum ErrorKind {
     UnknownMaterial(Word),
     /// `rotate` names an axis other than x, y, z.
     UnknownAxis(Word),
+    /// `sampler` names neither `independent` nor `stratified`.
+    UnknownSampler(Word),
     /// `shadows` and `adaptive` take `on` or `off`: the keyword and the word.
     NotASwitch(&'static str, Word),
     /// An object statement before any `object`.
@@ -209,6 +212,7 @@ impl fmt::Display for ErrorKind {
             UnknownShape(w) => write!(f, "object: unknown shape \"{w}\" (sphere, plane, cube, cylinder or cone)"),
             UnknownMaterial(w) => write!(f, "object: unknown material \"{w}\""),
             UnknownAxis(w) => write!(f, "rotate: unknown axis \"{w}\" (x, y or z)"),
+            UnknownSampler(w) => write!(f, "sampler: unknown sampler \"{w}\" (independent or stratified)"),
             NotASwitch(k, w) => write!(f, "{k}: \"{w}\" must be on or off"),
             NoObject { keyword } => write!(f, "{keyword} before any object statement"),
             NoLight => write!(f, "light_intensity before any light_position"),
@@ -268,7 +272,7 @@ impl fmt::Display for ParseError {
 }
 
 /// Every keyword of the format.
-pub const KEYWORDS: [&str; 30] = [
+pub const KEYWORDS: [&str; 31] = [
     "focus_distance",
     "f_number",
     "focus_on",
@@ -289,6 +293,7 @@ pub const KEYWORDS: [&str; 30] = [
     "background",
     "shadows",
     "adaptive",
+    "sampler",
     "object",
     "Ka",
     "Kd",
@@ -727,6 +732,14 @@ impl<S: Scalar> Parser<'_, S> {
                     "on" => true,
                     "off" => false,
                     other => return Err(st.err(ErrorKind::NotASwitch("adaptive", word(other)))),
+                };
+            }
+            "sampler" => {
+                st.expect(1)?;
+                cam.sampler = match st.values[0] {
+                    "independent" => Sampler::Independent,
+                    "stratified" => Sampler::Stratified,
+                    other => return Err(st.err(ErrorKind::UnknownSampler(word(other)))),
                 };
             }
             "light_position" => {

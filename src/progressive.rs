@@ -15,8 +15,9 @@
 //! grid: every pixel computed before keeps the top-left corner of its old
 //! block, which the new blocks leave untouched, so the display itself holds the
 //! picture and nothing needs to be stored or read back. Each pixel is computed
-//! once with its full sample count: the refinement passes together cost exactly
-//! one plain render.
+//! once with its full sample count (with adaptive sampling, the same samples
+//! the plain render takes, stopping where it stops): the refinement passes
+//! together cost exactly one plain render.
 //!
 //! On top of that an optional *preview* pass draws the coarsest grid with few
 //! lens samples (1 by default): for Program 1 at 8 × 8 blocks and 70 rays a

@@ -6,7 +6,8 @@
 
 use crate::camera::Camera;
 use crate::cull::LensCones;
-use crate::lfsr::Lfsr;
+use crate::footprint::BrightFootprints;
+use crate::sampler::{PixelSamples, Sampler};
 use crate::scalar::Scalar;
 use crate::scene::Scene;
 use crate::vec3::Vec3;
@@ -27,45 +28,105 @@ pub struct Renderer<'a, S: Scalar> {
     pub(crate) cones: LensCones<S>,
     pub(crate) samples: u32,
     pub(crate) adaptive: bool,
+    pub(crate) sampler: Sampler,
+    /// Pixels a bright object may reach through part of the lens: no early stop.
+    pub(crate) bright: BrightFootprints,
 }
 
-/// Lens samples an adaptive pixel takes before it first asks whether its
-/// samples agree, and between later checks.
-pub const ADAPTIVE_BATCH: u32 = 8;
+/// Lens samples an adaptive pixel takes before it first asks whether it is
+/// done: one in each of 16 equal strata of the lens (see [`crate::sampler`]).
+pub const ADAPTIVE_PILOT: u32 = 16;
 
-/// The standard error of an adaptive pixel's mean, in 8-bit levels, below
-/// which it stops: 1 level (the bound is on its square, in sixteenths).
-const ADAPTIVE_SE2_SIXTEENTHS: u64 = 16;
+/// The pilot of a pixel with `samples` lens samples: the largest power of two
+/// at most a quarter of them, and at least [`ADAPTIVE_PILOT`]. A pixel that
+/// stops after its pilot has seen the lens at a quarter of the full render's
+/// resolution: a bright light reaching it through a smaller part of the lens
+/// than that is what the pilot may miss.
+pub fn adaptive_pilot(samples: u32) -> u32 {
+    let quarter = (samples / 4).max(1);
+    (1u32 << (31 - quarter.leading_zeros())).max(ADAPTIVE_PILOT)
+}
+
+/// The variance of an adaptive pixel's mean, in 8-bit levels squared, below
+/// which it stops whatever its samples, in sixteenths (16: one level²).
+const ADAPTIVE_VAR_SIXTEENTHS: u128 = 16;
+
+/// The variance of an adaptive pixel's mean below which it stops, relative
+/// to that of the independent full render (s²/`point`), in sixteenths (32:
+/// twice it; the quarters' estimate overstates a stratified mean's variance).
+const ADAPTIVE_REL_SIXTEENTHS: u128 = 32;
+
+/// How many times lower than the independent estimate s²/n the stratified
+/// samples' variance is believed at most: the safety margin that makes a
+/// pixel with much contrast among its samples go on even when its quarters
+/// agree by chance.
+const ADAPTIVE_MAX_GAIN: u128 = 32;
 
 /// Running sums of a pixel's samples in 8-bit levels (unclamped: a lamp
-/// brighter than white weighs what it adds to the mean), per channel: what
-/// the adaptive stop decides on, in integers.
+/// brighter than white weighs what it adds to the mean), per channel, in
+/// integers: the total square and the sums of four quarters of the samples
+/// so far, each quarter a stratified set of its own (a block of 2ᵏ points of
+/// the sequence).
 #[derive(Default)]
 struct LevelStats {
-    sum: [u64; 3],
+    quarter: [[u64; 3]; 4],
     sum_sq: [u64; 3],
 }
 
 impl LevelStats {
-    fn add<S: Scalar>(&mut self, c: Vec3<S>) {
-        let level = |x: S| x.mul(S::from_i32(255)).floor_i32().clamp(0, 65535) as u64;
+    /// Adds sample `k` (0-based) of a pixel whose next check is at `check` samples.
+    fn add<S: Scalar>(&mut self, k: u32, check: u32, c: Vec3<S>) {
+        let level = |x: S| x.to_level();
+        // check is a power of two: k / (check / 4) by a shift (no divide on the M0).
+        let shift = check.trailing_zeros().saturating_sub(2);
+        let q = (k >> shift).min(3) as usize;
         for (i, l) in [level(c.x), level(c.y), level(c.z)].into_iter().enumerate() {
-            self.sum[i] += l;
-            self.sum_sq[i] += l * l;
+            self.quarter[q][i] += l as u64;
+            // l < 2¹⁶: the square fits a u32 (no 64-bit multiply on the M0).
+            self.sum_sq[i] += (l * l) as u64;
         }
     }
 
-    /// Whether the mean of `n >= 2` samples is within the bound of the mean
-    /// of all `full` samples, on every channel: the expected square of their
-    /// difference, s² (1/n − 1/full) with s² the samples' variance, at most
-    /// se². In integers, exactly: (n·Σx² − (Σx)²) · (full − n) · 16 <=
-    /// se²·16 · n² · (n − 1) · full.
+    /// Whether the mean of the `n` samples so far (a power of two, at least
+    /// 4) of a pixel of `full` samples is settled on every channel. Its
+    /// variance V is estimated from the spread of the four quarters' means,
+    /// V_q = Σ(m_j − m)²/12, and taken as at least s²/(n G), s² the samples'
+    /// variance and G = [`ADAPTIVE_MAX_GAIN`]; the pixel stops when V is at
+    /// most one level² or at most twice s²/`full`, the variance of the
+    /// independent full render. In integers, exactly, with h = n/4, Q the
+    /// total and q_j the quarters' sums: 192 h² V_q = Σ(4 q_j − Q)² and
+    /// n (n − 1) s² = n Σx² − Q².
     fn settled(&self, n: u32, full: u32) -> bool {
-        let (n, full) = (n as u128, full as u128);
+        let (n, h, full) = (n as u128, (n / 4) as u128, full as u128);
+        let (t, rel, gain) = (ADAPTIVE_VAR_SIXTEENTHS, ADAPTIVE_REL_SIXTEENTHS, ADAPTIVE_MAX_GAIN);
+        // The same for every channel: computed once (128-bit products are
+        // library calls on the M0).
+        let quarters_bound = 192 * h * h;
+        let abs_q = quarters_bound * t;
+        let abs_s = gain * t * n * n * (n - 1);
+        let rel_q = full * 16 * n * (n - 1);
+        let rel_ok = full * 16 <= rel * n * gain;
         (0..3).all(|i| {
-            let spread = n * self.sum_sq[i] as u128 - self.sum[i] as u128 * self.sum[i] as u128;
-            spread * (full - n) * 16 <= ADAPTIVE_SE2_SIXTEENTHS as u128 * n * n * (n - 1) * full
+            let q: [u128; 4] = core::array::from_fn(|j| self.quarter[j][i] as u128);
+            let total = q[0] + q[1] + q[2] + q[3];
+            let spread_q: u128 = q.iter().map(|&x| (4 * x).abs_diff(total).pow(2)).sum();
+            let spread = (n * self.sum_sq[i] as u128).saturating_sub(total * total);
+            // V_q <= t/16 and s²/(n G) <= t/16.
+            let absolute = spread_q * 16 <= abs_q && spread * 16 <= abs_s;
+            // V_q <= (rel/16) s²/full and s²/(n G) <= (rel/16) s²/full.
+            absolute || (rel_ok && spread_q * rel_q <= rel * spread * quarters_bound)
         })
+    }
+
+    /// Moves on to the next check at twice the samples: the four quarters
+    /// become the first two, the next samples fill the other two.
+    fn double(&mut self) {
+        for i in 0..3 {
+            self.quarter[0][i] += self.quarter[1][i];
+            self.quarter[1][i] = self.quarter[2][i] + self.quarter[3][i];
+            self.quarter[2][i] = 0;
+            self.quarter[3][i] = 0;
+        }
     }
 }
 
@@ -78,12 +139,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     ///
     /// Never: any scene [`Scene::parse`] accepts and any size.
     pub fn new(scene: &'a Scene<S>, cols: u32, rows: u32) -> Self {
+        let camera = Camera::new(&scene.camera, cols, rows);
         Renderer {
             scene,
-            camera: Camera::new(&scene.camera, cols, rows),
+            bright: BrightFootprints::new(scene, camera.cols(), camera.rows()),
+            camera,
             cones: LensCones::new(scene, scene.camera.lens_position, scene.camera.radius),
             samples: scene.camera.samples.max(1),
             adaptive: scene.camera.adaptive,
+            sampler: scene.camera.sampler,
         }
     }
 
@@ -104,6 +168,18 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         self
     }
 
+    /// Chooses how lens points are drawn (the scene's `sampler` statement
+    /// sets the default).
+    pub fn with_sampler(mut self, sampler: Sampler) -> Self {
+        self.sampler = sampler;
+        self
+    }
+
+    /// How lens points are drawn.
+    pub fn sampler(&self) -> Sampler {
+        self.sampler
+    }
+
     /// Whether lens sampling is adaptive.
     pub fn is_adaptive(&self) -> bool {
         self.adaptive
@@ -112,6 +188,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// The camera in use.
     pub fn camera(&self) -> &Camera<S> {
         &self.camera
+    }
+
+    /// The pixels where adaptive sampling takes every sample (see [`BrightFootprints`]).
+    pub fn bright_footprints(&self) -> &BrightFootprints {
+        &self.bright
     }
 
     /// The objects each of this camera's rays can reach (see [`LensCones`]).
@@ -141,38 +222,48 @@ impl<'a, S: Scalar> Renderer<'a, S> {
 
     /// The mean colour of pixel (`col`, `row`), unclamped, and the rays it cast.
     ///
-    /// With adaptive sampling a pixel takes [`ADAPTIVE_BATCH`] lens samples,
-    /// then checks after every further batch whether the mean of its samples
-    /// (in 8-bit levels) is within a level of the mean of all the samples
-    /// (estimated from their spread); it stops there. Samples that agree (an
-    /// in-focus pixel, or one whose rays all miss every object) stop after the
-    /// first batch; samples that differ (a blurred edge) go on up to the full
-    /// count. The samples taken are the first ones of the full render.
+    /// With adaptive sampling (and at least [`ADAPTIVE_PILOT`] samples) a
+    /// pixel takes a pilot of [`ADAPTIVE_PILOT`] lens samples, then at every
+    /// power of two asks whether its mean is settled (see the scene format's
+    /// "Adaptive lens sampling"), and stops there; else it goes on, up to all
+    /// the samples. The samples taken are the first ones of the full render.
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
         let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
             let ray = self.camera.chief_ray_from(&film);
             return (self.scene.trace_camera_ray(&ray, &self.cones), 1);
         }
-        // The pixel's own register: samples independent of row order and threads.
-        let mut lfsr = Lfsr::for_pixel(col, row, 0);
+        // The pixel's own samples: independent of row order and threads.
+        let mut lens = PixelSamples::new(self.sampler, col, row);
         let mut acc = [S::acc_zero(); 3];
         let mut stats = LevelStats::default();
+        let adaptive = self.adaptive && self.samples > ADAPTIVE_PILOT;
+        // Where a lamp may shine through part of the lens, a pilot at half the
+        // full render's resolution of the lens.
+        let mut check = if self.bright.at_risk(col, row) {
+            adaptive_pilot(self.samples.saturating_mul(2))
+        } else {
+            adaptive_pilot(self.samples)
+        };
         let mut n = 0;
         while n < self.samples {
-            let ray = self.camera.lens_ray_from(&film, self.camera.lens_sample(&mut lfsr));
+            let ray = self.camera.lens_ray_from(&film, lens.next(self.camera.aperture()));
             let c = self.scene.trace_camera_ray(&ray, &self.cones);
             acc = [
                 S::acc_add(acc[0], c.x),
                 S::acc_add(acc[1], c.y),
                 S::acc_add(acc[2], c.z),
             ];
+            if adaptive {
+                stats.add(n, check, c);
+            }
             n += 1;
-            if self.adaptive {
-                stats.add(c);
-                if n % ADAPTIVE_BATCH == 0 && n < self.samples && stats.settled(n, self.samples) {
+            if adaptive && n == check && n < self.samples {
+                if stats.settled(n, self.samples) {
                     break;
                 }
+                stats.double();
+                check = check.saturating_mul(2);
             }
         }
         let colour = Vec3::new(S::acc_mean(acc[0], n), S::acc_mean(acc[1], n), S::acc_mean(acc[2], n));
@@ -190,15 +281,20 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     }
 
     /// Fills `out` with row `row`, from column 0 (`out.len()` pixels at most
-    /// the image width; extra entries are left untouched).
+    /// the image width; extra entries are left untouched), and returns the
+    /// rays the row cast (a row of 8192 pixels at 65535 rays fits a u32).
     ///
     /// # Panics
     ///
     /// Never, for any `row` and any length of `out`.
-    pub fn render_row(&self, row: u32, out: &mut [Rgb888]) {
+    pub fn render_row(&self, row: u32, out: &mut [Rgb888]) -> u32 {
+        let mut rays = 0u32;
         for (col, px) in out.iter_mut().take(self.camera.cols() as usize).enumerate() {
-            *px = self.pixel(col as u32, row);
+            let (c, n) = self.pixel_rays(col as u32, row);
+            rays = rays.saturating_add(n);
+            *px = Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8());
         }
+        rays
     }
 }
 

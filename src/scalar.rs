@@ -143,6 +143,13 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     /// A colour channel clamped to [0, 1] and rounded to 8 bits: `round(255 v)`.
     fn to_u8(self) -> u8;
 
+    /// A colour channel in 8-bit levels, unclamped above white: `⌊255 v⌋`
+    /// clamped to 0..=65535 (what adaptive sampling's statistics count).
+    #[inline]
+    fn to_level(self) -> u32 {
+        self.mul(Self::from_i32(255)).floor_i32().clamp(0, 65535) as u32
+    }
+
     /// `min(self, o)`.
     #[inline]
     fn min(self, o: Self) -> Self {
@@ -723,6 +730,12 @@ impl Scalar for I16F16 {
     fn to_u8(self) -> u8 {
         let b = self.to_bits().clamp(0, 1 << 16) as u32;
         ((b * 255 + (1 << 15)) >> 16) as u8
+    }
+    #[inline]
+    fn to_level(self) -> u32 {
+        // v < 257 keeps 255 v below 65536: one 32-bit multiply, exact.
+        let b = self.to_bits().clamp(0, 257 << 16) as u32;
+        ((b * 255) >> 16).min(65535)
     }
 }
 

@@ -7,6 +7,7 @@
 
 use crate::camera::Ray;
 use crate::cull::LensCones;
+use crate::sampler::Sampler;
 use crate::scalar::Scalar;
 use crate::shape::{LocalHit, Shape};
 use crate::transform::{Affine, Mat34};
@@ -48,6 +49,8 @@ pub struct CameraParams {
     /// Adaptive lens sampling (`adaptive on|off`): a pixel stops taking lens
     /// samples once their mean is settled (see [`crate::Renderer::pixel_rays`]).
     pub adaptive: bool,
+    /// How lens points are drawn (`sampler independent|stratified`).
+    pub sampler: Sampler,
 }
 
 impl Default for CameraParams {
@@ -64,7 +67,8 @@ impl Default for CameraParams {
             radius: 0.0,
             aperture_blades: 0,
             aperture_rotation: 0.0,
-            adaptive: false,
+            adaptive: true,
+            sampler: Sampler::Stratified,
         }
     }
 }

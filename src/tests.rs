@@ -230,3 +230,18 @@ fn pinhole_ignores_the_sample_count_and_lens_blurs() {
     assert_eq!(pin("radius 0\npoint 1"), pin("radius 0\npoint 9"));
     assert_ne!(pin("radius 0"), pin("radius 0.4\npoint 9"));
 }
+
+#[test]
+fn fixed_levels_by_one_multiply_are_exact() {
+    use crate::Scalar;
+    use fixed::types::I16F16;
+    for bits in (-70_000i32..20_000_000)
+        .step_by(97)
+        .chain([0, 1, 65535, 65536, 257 << 16, i32::MAX, i32::MIN])
+    {
+        let x = I16F16::from_bits(bits);
+        // ⌊255 v⌋ exactly (the generic Q16.16 product would saturate at 32767).
+        let exact = ((bits as i64 * 255) >> 16).clamp(0, 65535) as u32;
+        assert_eq!(x.to_level(), exact, "bits {bits}");
+    }
+}

@@ -107,7 +107,7 @@ fn compare_scene(path: &Path, o: &RenderOpts) -> Result<(Image, Image), Fail> {
         path.display(),
         probe.rays_per_pixel()
     ));
-    let a = render_with_progress(&fixed, w, h, o.samples);
-    let b = render_with_progress(&float, w, h, o.samples);
+    let a = render_with_progress(&fixed, w, h, o.samples).0;
+    let b = render_with_progress(&float, w, h, o.samples).0;
     Ok((a, b))
 }

@@ -32,21 +32,28 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
         return Err(Fail(format!("{}: is a directory", out.display())));
     }
     check_writable(&out)?;
-    let (img, kind) = if o.float {
+    // Rays are counted by the plain render; progressive passes cast the same.
+    let (img, kind, rays) = if o.float {
         let mut scene = load_scene::<f32>(scene_path)?;
         apply_to_scene(&o, &mut scene);
         let (w, h) = image_size(&o, scene.camera.aspect_ratio)?;
         match &o.passes {
-            Some(dir) => (render_passes_to(&scene, w, h, &o, dir)?, f32::NAME),
-            None => (render_with_progress(&scene, w, h, o.samples), f32::NAME),
+            Some(dir) => (render_passes_to(&scene, w, h, &o, dir)?, f32::NAME, None),
+            None => {
+                let (img, rays) = render_with_progress(&scene, w, h, o.samples);
+                (img, f32::NAME, Some(rays))
+            }
         }
     } else {
         let mut scene = load_scene::<I16F16>(scene_path)?;
         apply_to_scene(&o, &mut scene);
         let (w, h) = image_size(&o, scene.camera.aspect_ratio)?;
         match &o.passes {
-            Some(dir) => (render_passes_to(&scene, w, h, &o, dir)?, I16F16::NAME),
-            None => (render_with_progress(&scene, w, h, o.samples), I16F16::NAME),
+            Some(dir) => (render_passes_to(&scene, w, h, &o, dir)?, I16F16::NAME, None),
+            None => {
+                let (img, rays) = render_with_progress(&scene, w, h, o.samples);
+                (img, I16F16::NAME, Some(rays))
+            }
         }
     };
     // A panel's format is applied last, so --passes saves the full-depth passes.
@@ -57,6 +64,10 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     let bytes = encode(&img, format)?;
     write_atomic(&out, &bytes).map_err(|e| Fail(format!("{}: cannot write: {e}", out.display())))?;
     eprintln!("wrote {} ({}x{}, {kind})", out.display(), img.width, img.height);
+    if let Some(rays) = rays {
+        let pixels = img.width as f64 * img.height as f64;
+        println!("rays per pixel: {:.2}", rays as f64 / pixels);
+    }
     Ok(())
 }
 

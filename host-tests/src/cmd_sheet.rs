@@ -74,7 +74,7 @@ fn tiles<S: Scalar + Send + Sync>(o: &RenderOpts) -> Result<Vec<Tile>, Fail> {
     let mut tiles = Vec::with_capacity(scenes.len());
     for (name, scene) in &scenes {
         let (w, h) = image_size(o, scene.camera.aspect_ratio)?;
-        let image = render_with_progress(scene, w, h, o.samples);
+        let image = render_with_progress(scene, w, h, o.samples).0;
         tiles.push(Tile {
             image,
             caption: vec![name.clone(), camera_caption(&scene.camera)],

@@ -416,9 +416,44 @@ const EDGE_NUMBERS: &[&str] = &[
 
 /// Words the format knows besides its keywords, and near misses.
 const WORDS: &[&str] = &[
-    "sphere", "plane", "cube", "cylinder", "cone", "gold", "copper", "silver", "brass", "bronze", "chrome", "pewter",
-    "emerald", "jade", "ruby", "pearl", "obsidian", "x", "y", "z", "w", "on", "off", "Sphere", "GOLD", "X", "yes", "#",
-    "#x", "object", "Ka", "ka", "KA", "point", "",
+    "sphere",
+    "plane",
+    "cube",
+    "cylinder",
+    "cone",
+    "gold",
+    "copper",
+    "silver",
+    "brass",
+    "bronze",
+    "chrome",
+    "pewter",
+    "emerald",
+    "jade",
+    "ruby",
+    "pearl",
+    "obsidian",
+    "x",
+    "y",
+    "z",
+    "w",
+    "on",
+    "off",
+    "Sphere",
+    "GOLD",
+    "X",
+    "yes",
+    "#",
+    "#x",
+    "object",
+    "Ka",
+    "ka",
+    "KA",
+    "point",
+    "",
+    "independent",
+    "stratified",
+    "Stratified",
 ];
 
 /// Bytes that matter to the parser's splitting and checking.
@@ -444,7 +479,9 @@ fn arity(keyword: &str) -> usize {
         | "focus_on"
         | "aperture_blades"
         | "aperture_rotation"
-        | "shadows" => 1,
+        | "shadows"
+        | "adaptive"
+        | "sampler" => 1,
         "object" | "rotate" => 2,
         _ => 3,
     }
@@ -565,7 +602,8 @@ fn statement(rng: &mut Rng) -> String {
             ("object", 0) => (*rng.pick(&WORDS[..5])).to_string(),
             ("object", _) => (*rng.pick(&WORDS[5..17])).to_string(),
             ("rotate", 0) => (*rng.pick(&WORDS[17..20])).to_string(),
-            ("shadows", _) => (*rng.pick(&WORDS[21..23])).to_string(),
+            ("shadows" | "adaptive", _) => (*rng.pick(&WORDS[21..23])).to_string(),
+            ("sampler", _) => (*rng.pick(&WORDS[35..38])).to_string(),
             ("point" | "total_transformation", _) if rng.chance(3, 4) => format!("{}", rng.below(6)),
             _ if rng.chance(1, 20) => (*rng.pick(WORDS)).to_string(),
             _ => number(rng),
@@ -579,7 +617,7 @@ fn statement(rng: &mut Rng) -> String {
 /// their properties and transformations.
 pub fn scene_from_grammar(rng: &mut Rng) -> Vec<u8> {
     let mut lines: Vec<String> = Vec::new();
-    const CAMERA: [&str; 17] = [
+    const CAMERA: [&str; 19] = [
         "focus_distance",
         "f_number",
         "focus_on",
@@ -597,6 +635,8 @@ pub fn scene_from_grammar(rng: &mut Rng) -> Vec<u8> {
         "ambient_light",
         "background",
         "shadows",
+        "adaptive",
+        "sampler",
     ];
     for _ in 0..rng.below(6) {
         let k = *rng.pick(&CAMERA);
@@ -649,7 +689,8 @@ fn statement_for(rng: &mut Rng, keyword: &str) -> String {
             ("object", _) if rng.chance(1, 2) => continue,
             ("object", _) => (*rng.pick(&WORDS[5..17])).to_string(),
             ("rotate", 0) => (*rng.pick(&WORDS[17..20])).to_string(),
-            ("shadows", _) => (*rng.pick(&WORDS[21..23])).to_string(),
+            ("shadows" | "adaptive", _) => (*rng.pick(&WORDS[21..23])).to_string(),
+            ("sampler", _) => (*rng.pick(&WORDS[35..37])).to_string(),
             ("point" | "focus_on", _) => format!("{}", 1 + rng.below(4)),
             ("aperture_blades", _) => format!("{}", rng.pick(&[0, 3, 5, 6, 16, 1, 2, 17])),
             ("Ka" | "Kd" | "Ks" | "ambient_light" | "background" | "light_intensity", _) if rng.chance(3, 4) => {

@@ -11,9 +11,11 @@ use lensray::{Renderer, Scalar, Scene};
 use rayon::prelude::*;
 
 pub mod canvas;
+pub mod convergence;
 pub mod fuzz;
 pub mod panel;
 pub mod passes;
+pub mod scenegen;
 pub mod sheet;
 
 /// An RGB image in memory, row-major from the top-left.
@@ -53,25 +55,39 @@ pub fn render_image<S: Scalar + Send + Sync>(
     samples: Option<u32>,
     on_row: &(dyn Fn() + Sync),
 ) -> Image {
+    render_image_counted(scene, width, height, samples, on_row).0
+}
+
+/// [`render_image`], and the lens rays it cast in all (one a pixel for a pinhole).
+pub fn render_image_counted<S: Scalar + Send + Sync>(
+    scene: &Scene<S>,
+    width: u32,
+    height: u32,
+    samples: Option<u32>,
+    on_row: &(dyn Fn() + Sync),
+) -> (Image, u64) {
     let mut renderer = Renderer::new(scene, width, height);
     if let Some(n) = samples {
         renderer = renderer.with_samples(n);
     }
     // Rows straight into the image: no per-row allocation, no copy at the end.
     let mut pixels = vec![Rgb888::BLACK; width as usize * height as usize];
+    let mut rays = 0;
     if width > 0 {
         // One row a task: rayon otherwise stops splitting at a few chunks of
         // many rows, and a small frame ends with one core finishing the last chunk.
-        pixels
+        rays = pixels
             .par_chunks_mut(width as usize)
             .with_max_len(1)
             .enumerate()
-            .for_each(|(row, out)| {
-                renderer.render_row(row as u32, out);
+            .map(|(row, out)| {
+                let n = renderer.render_row(row as u32, out);
                 on_row();
-            });
+                n as u64
+            })
+            .sum();
     }
-    Image { width, height, pixels }
+    (Image { width, height, pixels }, rays)
 }
 
 /// Encodes a 24-bit uncompressed BMP (bottom-up rows, padded to 4 bytes).

@@ -2,6 +2,7 @@
 //!
 //! ```text
 //! lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
+//!                      [--sampler independent|stratified]
 //!                      [--passes DIR [--first-step S] [--preview-samples P]] [--panel rgb565]
 //! lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT] [render options]
 //! lensray emulate SCENE --board microbit|mps2-an385|mps2-an386|pico [-o OUT] [--width W] [--height H] [--samples N] [--float]
@@ -27,7 +28,7 @@ mod opts;
 
 pub(crate) const USAGE: &str = "usage:
   lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
-                       [--adaptive on|off]
+                       [--adaptive on|off] [--sampler independent|stratified]
                        [--passes DIR [--first-step S] [--preview-samples P]] [--panel rgb565]
   lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT]
                        [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
@@ -41,8 +42,9 @@ pub(crate) const USAGE: &str = "usage:
            name with .bmp, in the current directory). --width defaults to 640,
            --height to round(width / aspect_ratio); --samples overrides the
            scene's `point`; --float renders with the f32 reference instead of
-           Q16.16; --adaptive on|off overrides the scene's `adaptive` (lens
-           samples stop where they agree). --passes renders progressively as a display would show
+           Q16.16; --adaptive on|off overrides the scene's `adaptive` (a pixel
+           stops taking lens samples once its mean is settled) and --sampler
+           its `sampler`. Prints the mean lens rays cast a pixel. --passes renders progressively as a display would show
            it and saves the picture after each pass as DIR/pass-1.png ...:
            a preview of SxS blocks (S = --first-step, default 8) with P lens
            samples (--preview-samples, default 1; 0 for none), then the same

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use lensray::{Scalar, Scene};
-use lensray_host::{render_image, Image, MAX_SIDE};
+use lensray_host::{render_image_counted, Image, MAX_SIDE};
 
 use crate::Fail;
 
@@ -19,6 +19,8 @@ pub(crate) struct RenderOpts {
     pub(crate) float: bool,
     /// `--adaptive on|off`: overrides the scene's `adaptive` statement.
     pub(crate) adaptive: Option<bool>,
+    /// `--sampler independent|stratified`: overrides the scene's `sampler` statement.
+    pub(crate) sampler: Option<lensray::sampler::Sampler>,
     /// `--passes DIR`: save each progressive pass there.
     pub(crate) passes: Option<PathBuf>,
     /// `--first-step N`: block side of the first progressive pass.
@@ -65,6 +67,15 @@ pub(crate) fn parse_opts(args: &[String]) -> Result<RenderOpts, Fail> {
                     None => return Err(Fail("--adaptive needs a value: on or off".into())),
                 })
             }
+            "--sampler" => {
+                use lensray::sampler::Sampler;
+                o.sampler = Some(match it.next().map(String::as_str) {
+                    Some("independent") => Sampler::Independent,
+                    Some("stratified") => Sampler::Stratified,
+                    Some(v) => return Err(Fail(format!("--sampler {v}: must be independent or stratified"))),
+                    None => return Err(Fail("--sampler needs a value: independent or stratified".into())),
+                })
+            }
             "--passes" => o.passes = Some(PathBuf::from(it.next().ok_or("--passes needs a directory")?)),
             "--first-step" => {
                 o.first_step = Some(parse_u32("--first-step", it.next(), 1, lensray::progressive::MAX_STEP)?)
@@ -84,10 +95,13 @@ pub(crate) fn parse_opts(args: &[String]) -> Result<RenderOpts, Fail> {
     Ok(o)
 }
 
-/// Applies the options that change a loaded scene (`--adaptive`).
+/// Applies the options that change a loaded scene (`--adaptive`, `--sampler`).
 pub(crate) fn apply_to_scene<S: Scalar>(o: &RenderOpts, scene: &mut Scene<S>) {
     if let Some(a) = o.adaptive {
         scene.camera.adaptive = a;
+    }
+    if let Some(s) = o.sampler {
+        scene.camera.sampler = s;
     }
 }
 
@@ -115,16 +129,16 @@ pub(crate) fn render_with_progress<S: Scalar + Send + Sync>(
     w: u32,
     h: u32,
     samples: Option<u32>,
-) -> Image {
+) -> (Image, u64) {
     let bar = ProgressBar::new(h as u64);
     bar.set_style(
         ProgressStyle::with_template("{spinner} rendering [{bar:40}] {pos}/{len} rows, {eta} left")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let tick = || bar.inc(1);
-    let img = render_image(scene, w, h, samples, &tick);
+    let out = render_image_counted(scene, w, h, samples, &tick);
     bar.finish_and_clear();
-    img
+    out
 }
 
 /// Renders progressively (`--passes DIR`), saving the display after each pass

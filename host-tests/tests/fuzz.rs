@@ -169,3 +169,26 @@ fn every_past_crash_stays_fixed() {
     }
     assert!(n > 0, "no regression inputs in {}", dir.display());
 }
+
+#[test]
+fn every_keyword_is_in_the_libfuzzer_dictionary_and_the_format_docs() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let dict = std::fs::read_to_string(root.join("fuzz/parse_render.dict")).unwrap();
+    let docs = std::fs::read_to_string(root.join("docs/scene-format.md")).unwrap();
+    for k in lensray::parse::KEYWORDS {
+        assert!(
+            dict.contains(&format!("=\"{k}\"")),
+            "{k} is missing from fuzz/parse_render.dict"
+        );
+        assert!(
+            docs.contains(&format!("`{k}")),
+            "{k} is missing from docs/scene-format.md"
+        );
+    }
+    for w in ["independent", "stratified", "on", "off"] {
+        assert!(
+            dict.contains(&format!("=\"{w}\"")),
+            "{w} is missing from fuzz/parse_render.dict"
+        );
+    }
+}

@@ -367,6 +367,7 @@ fn every_error_kind_names_its_line() {
         (b"object cube\nrotate w 45\n", 2, UnknownAxis(w("w"))),
         (b"shadows yes\n", 1, NotASwitch("shadows", w("yes"))),
         (b"point 70\nadaptive 1\n", 2, NotASwitch("adaptive", w("1"))),
+        (b"point 70\nsampler halton\n", 2, UnknownSampler(w("halton"))),
         (b"Kd 1 1 1\n", 1, NoObject { keyword: "Kd" }),
         (b"scale 1 1 1\n", 1, NoObject { keyword: "scale" }),
         (b"light_intensity 1 1 1\n", 1, NoLight),

@@ -1,0 +1,107 @@
+//! Sampler quality against the truth: renders measured against converged
+//! references (the same scene at many lens samples, f32), with the rays
+//! each render cast.
+//!
+//! References are expensive, so they are rendered once and cached as PNG
+//! under `target/converged/`, named by a hash of the scene text, the size,
+//! the sample count and the sampler (a changed scene gets a new reference).
+
+use std::path::{Path, PathBuf};
+
+use lensray::sampler::Sampler;
+use lensray::{Scalar, Scene, I16F16};
+
+use crate::{decode_image, encode, render_image_counted, write_atomic, Diff, Format, Image};
+
+/// Bumped when the renderer's converged image changes meaning (invalidates the cache).
+const CACHE_VERSION: u32 = 1;
+
+/// One render's quality: PSNR against the reference and mean lens rays a pixel.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Point {
+    /// PSNR against the reference, dB.
+    pub psnr: f64,
+    /// Mean lens rays cast a pixel.
+    pub rays: f64,
+}
+
+/// How to render a scene for a measurement.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Setting {
+    /// Lens samples a pixel (the most, with adaptive sampling).
+    pub samples: u32,
+    /// The lens sampler.
+    pub sampler: Sampler,
+    /// Adaptive sampling on or off.
+    pub adaptive: bool,
+}
+
+/// Renders `text` (Q16.16 unless `float`) at `w`×`h` with `setting`; the
+/// image and the mean rays a pixel.
+pub fn render_text(text: &str, w: u32, h: u32, setting: Setting, float: bool) -> Result<(Image, f64), String> {
+    fn go<S: Scalar + Send + Sync>(text: &str, w: u32, h: u32, s: Setting) -> Result<(Image, f64), String> {
+        let mut scene = Scene::<S>::parse(text).map_err(|e| e.to_string())?;
+        scene.camera.sampler = s.sampler;
+        scene.camera.adaptive = s.adaptive;
+        let (img, rays) = render_image_counted(&scene, w, h, Some(s.samples), &|| {});
+        Ok((img, rays as f64 / (w as f64 * h as f64)))
+    }
+    if float {
+        go::<f32>(text, w, h, setting)
+    } else {
+        go::<I16F16>(text, w, h, setting)
+    }
+}
+
+/// FNV-1a, for cache names.
+fn fnv(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
+    })
+}
+
+/// The workspace's `target/converged/`.
+pub fn cache_dir() -> PathBuf {
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../target"));
+    target.join("converged")
+}
+
+/// The converged reference of `text` at `w`×`h`: f32, `samples` lens samples
+/// of `sampler`, not adaptive; from the cache when it is there.
+pub fn reference(text: &str, w: u32, h: u32, samples: u32, sampler: Sampler) -> Result<Image, String> {
+    // `point` and `adaptive` do not change a reference (its samples are
+    // given, every one cast): left out of the key, so variants share it.
+    let stripped: String = text
+        .lines()
+        .filter(|l| !matches!(l.split_whitespace().next(), Some("point" | "adaptive")))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let key = format!("{CACHE_VERSION}|{w}x{h}|{samples}|{sampler:?}|{stripped}");
+    let path = cache_dir().join(format!(
+        "{:016x}-{w}x{h}-{samples}-{sampler:?}.png",
+        fnv(key.as_bytes())
+    ));
+    if let Ok(bytes) = std::fs::read(&path) {
+        if let Ok(img) = decode_image(&bytes) {
+            return Ok(img);
+        }
+    }
+    let setting = Setting {
+        samples,
+        sampler,
+        adaptive: false,
+    };
+    let (img, _) = render_text(text, w, h, setting, true)?;
+    std::fs::create_dir_all(cache_dir()).map_err(|e| e.to_string())?;
+    write_atomic(&path, &encode(&img, Format::Png)?).map_err(|e| e.to_string())?;
+    Ok(img)
+}
+
+/// PSNR of a render of `text` with `setting` (Q16.16) against `reference`, and its rays.
+pub fn measure(text: &str, reference: &Image, setting: Setting) -> Result<Point, String> {
+    let (img, rays) = render_text(text, reference.width, reference.height, setting, false)?;
+    let psnr = Diff::of(&img, reference).ok_or("sizes differ")?.psnr;
+    Ok(Point { psnr, rays })
+}
