@@ -13,6 +13,7 @@ use rayon::prelude::*;
 pub mod canvas;
 pub mod fuzz;
 pub mod passes;
+pub mod scenegen;
 pub mod sheet;
 
 /// An RGB image in memory, row-major from the top-left.
