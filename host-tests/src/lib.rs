@@ -15,6 +15,7 @@ pub mod fuzz;
 pub mod passes;
 pub mod scenegen;
 pub mod sheet;
+pub mod sweep;
 
 /// An RGB image in memory, row-major from the top-left.
 #[derive(Clone, Debug, PartialEq, Eq)]
