@@ -17,6 +17,7 @@ pub mod panel;
 pub mod passes;
 pub mod scenegen;
 pub mod sheet;
+pub mod sweep;
 
 /// An RGB image in memory, row-major from the top-left.
 #[derive(Clone, Debug, PartialEq, Eq)]
