@@ -9,7 +9,7 @@
 //               {type:'scene', id, camera}
 //               {type:'frame', id, rgba, pass, passes, rays, ms, done}
 //               {type:'heat', id, rgba, psnr, maxDiff}
-//               {type:'pick', id, depth, object}, {type:'objects', id, map}
+//               {type:'pick', id, depth, object}, {type:'objects', id, map, depth}
 'use strict';
 
 const FIXED = 0, FLOAT = 1;
@@ -144,10 +144,15 @@ function pick(msg) {
 
 function objects(msg) {
   const map = new Uint8Array(size.width * size.height);
+  const depth = new Float64Array(size.width * size.height);
   for (let r = 0; r < size.height; r++) {
-    for (let c = 0; c < size.width; c++) map[r * size.width + c] = wasm.lr_object_at(msg.number, c, r);
+    for (let c = 0; c < size.width; c++) {
+      map[r * size.width + c] = wasm.lr_object_at(msg.number, c, r);
+      depth[r * size.width + c] = wasm.lr_depth_at(msg.number, c, r);
+    }
   }
-  postMessage({ type: 'objects', id: msg.id, map, width: size.width, height: size.height }, [map.buffer]);
+  postMessage({ type: 'objects', id: msg.id, map, depth, width: size.width, height: size.height },
+              [map.buffer, depth.buffer]);
 }
 
 onmessage = async (e) => {
