@@ -54,6 +54,9 @@ function showError(line, message) {
   errorLine = line;
   status.className = line ? 'error' : 'ok';
   status.textContent = line ? message : 'scene ok';
+  // Bring the marked line into view where it is not.
+  const top = (line - 1) * 18;
+  if (line && (top < text.scrollTop || top > text.scrollTop + text.clientHeight - 36)) text.scrollTop = Math.max(0, top - 90);
   updateGutter();
 }
 
@@ -135,7 +138,7 @@ function render() {
   history.replaceState(null, '', hash);
   $('link').href = hash;
   lensray.timings = { id, width: state.width, height: state.height, number: state.number,
-    start: performance.now(), firstFrame: null, previewDone: null, done: null, maxMainGap: 0 };
+    start: performance.now(), firstFrame: null, previewDone: null, done: null, maxMainGap: 0, maxMainGapAfterFirstFrame: 0, ticks: 0 };
   worker.postMessage({ type: 'render', id, text: text.value, width: state.width, height: state.height,
     number: numberIndex(), heat: state.heat });
 }
@@ -145,7 +148,11 @@ let lastTick = performance.now();
 setInterval(() => {
   const now = performance.now();
   const t = lensray.timings;
-  if (t && t.done === null) t.maxMainGap = Math.max(t.maxMainGap, now - lastTick);
+  if (t && t.done === null) {
+    t.maxMainGap = Math.max(t.maxMainGap, now - lastTick);
+    // From the first frame on the worker renders and the page only draws.
+    if (t.firstFrame !== null) { t.maxMainGapAfterFirstFrame = Math.max(t.maxMainGapAfterFirstFrame, now - lastTick); t.ticks++; }
+  }
   lastTick = now;
 }, 10);
 
@@ -217,6 +224,7 @@ function showSettings() {
   $('height').value = state.height;
   $('heatmap').checked = state.heat;
   $('heat-figure').hidden = !state.heat;
+  $('view').classList.toggle('heat', state.heat);
 }
 
 // ---- controls ----
