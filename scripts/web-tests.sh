@@ -28,6 +28,6 @@ if [ ! -d web/node_modules/playwright-core ]; then
 fi
 
 cargo build -p lensray --release --target wasm32-unknown-unknown
-(cd web/wasm && cargo fmt --check && cargo clippy --release --all-targets -- -D warnings && cargo test --release)
+(cd web/wasm && cargo fmt --check && cargo clippy --all-targets -- -D warnings && cargo test)
 bash web/build.sh
 (cd web && node --test tests/)
