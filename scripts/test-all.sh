@@ -3,7 +3,7 @@
 #   bash scripts/test-all.sh
 # Steps: rustup targets and components, Debian's qemu-system-arm, format and
 # lint, every host test, a minute of fuzzing, the no_std library for two
-# Cortex-M targets, and the firmware under QEMU.
+# Cortex-M targets, the firmware under QEMU, and the web page in a browser.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -50,5 +50,8 @@ if [ -d firmware ]; then
   step "firmware"
   bash scripts/firmware-tests.sh
 fi
+
+step "web page: wasm, build, browser tests (scripts/web-tests.sh)"
+bash scripts/web-tests.sh
 
 step "all checks passed"

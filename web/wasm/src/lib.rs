@@ -1,0 +1,412 @@
+//! lensray's library in WebAssembly: the C ABI the web page's worker calls.
+//!
+//! No bindings generator: plain `extern "C"` functions over linear memory.
+//! The page writes the scene text into a buffer this module hands out
+//! ([`lr_text_buffer`]), parses it ([`lr_parse`]) with the library's own
+//! parser into both number types, sets up a progressive schedule for an image
+//! size ([`lr_setup`], the library's [`progressive::Schedule`]) and renders it
+//! a few grid rows at a time ([`lr_render`], the library's
+//! [`progressive::render_pass_row`]) into one RGBA buffer per number type,
+//! which the page copies onto its canvas. [`lr_depth_at`] is the click-to-focus
+//! query: the depth of what the pixel's chief ray meets first.
+//!
+//! Number types are selected by an integer: 0 is Q16.16, 1 is `f32`.
+//! Every function is total: bad indices or a missing scene return 0, -1 or
+//! NaN as documented, never a trap.
+
+use std::cell::RefCell;
+
+use embedded_graphics_core::draw_target::DrawTarget;
+use embedded_graphics_core::geometry::{OriginDimensions, Size};
+use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
+use embedded_graphics_core::Pixel;
+use lensray::progressive::{self, Pass, Schedule};
+use lensray::{Renderer, Scalar, Scene, I16F16};
+
+/// Q16.16, the fixed-point renderer.
+pub const NUMBER_FIXED: u32 = 0;
+/// `f32`, the reference.
+pub const NUMBER_FLOAT: u32 = 1;
+
+/// Everything the page has set: one scene text, parsed in both number types.
+#[derive(Default)]
+struct State {
+    text: Vec<u8>,
+    message: String,
+    error_line: u32,
+    fixed: Option<Box<Scene<I16F16>>>,
+    float: Option<Box<Scene<f32>>>,
+    width: u32,
+    height: u32,
+    passes: Vec<Pass>,
+    /// RGBA, row-major, one image per number type.
+    images: [Vec<u8>; 2],
+}
+
+thread_local! {
+    static STATE: RefCell<State> = RefCell::new(State::default());
+}
+
+fn with<R>(f: impl FnOnce(&mut State) -> R) -> R {
+    STATE.with(|s| f(&mut s.borrow_mut()))
+}
+
+/// An RGBA buffer as an embedded-graphics display (alpha always 255).
+pub struct RgbaTarget<'a> {
+    /// `width * height * 4` bytes.
+    pub rgba: &'a mut [u8],
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+}
+
+impl OriginDimensions for RgbaTarget<'_> {
+    fn size(&self) -> Size {
+        Size::new(self.width, self.height)
+    }
+}
+
+impl DrawTarget for RgbaTarget<'_> {
+    type Color = Rgb888;
+    type Error = core::convert::Infallible;
+
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(&mut self, pixels: I) -> Result<(), Self::Error> {
+        for Pixel(p, c) in pixels {
+            if p.x >= 0 && p.y >= 0 && (p.x as u32) < self.width && (p.y as u32) < self.height {
+                let i = (p.y as usize * self.width as usize + p.x as usize) * 4;
+                self.rgba[i..i + 4].copy_from_slice(&[c.r(), c.g(), c.b(), 255]);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A buffer of `len` bytes for the scene text (UTF-8); the page writes the
+/// text there, then calls [`lr_parse`]. The pointer is valid until the next call.
+#[no_mangle]
+pub extern "C" fn lr_text_buffer(len: u32) -> *mut u8 {
+    with(|s| {
+        s.text.clear();
+        s.text.resize(len as usize, 0);
+        s.text.as_mut_ptr()
+    })
+}
+
+/// Parses the scene text in both number types. Returns 0 when it is a valid
+/// scene, else the line of the first error (the message, `line N: ...`, from
+/// [`lr_message`]). A failed parse keeps no scene: rendering draws nothing.
+#[no_mangle]
+pub extern "C" fn lr_parse() -> u32 {
+    with(|s| {
+        let fixed = Scene::<I16F16>::parse_bytes(&s.text);
+        let float = Scene::<f32>::parse_bytes(&s.text);
+        s.fixed = None;
+        s.float = None;
+        match (fixed, float) {
+            (Ok(a), Ok(b)) => {
+                s.fixed = Some(Box::new(a));
+                s.float = Some(Box::new(b));
+                s.message.clear();
+                s.error_line = 0;
+            }
+            (Err(e), _) | (_, Err(e)) => {
+                s.message = e.to_string();
+                // Line 0 would read as success; errors always name a line from 1.
+                s.error_line = e.line.max(1);
+            }
+        }
+        s.error_line
+    })
+}
+
+/// The last parse error's message (`line N: message`), UTF-8 at this pointer...
+#[no_mangle]
+pub extern "C" fn lr_message() -> *const u8 {
+    with(|s| s.message.as_ptr())
+}
+
+/// ... of this many bytes (0 after a successful parse).
+#[no_mangle]
+pub extern "C" fn lr_message_len() -> u32 {
+    with(|s| s.message.len() as u32)
+}
+
+/// Sets up a progressive render of `width` × `height` pixels of the parsed
+/// scene: blocks of `first_step` first, a preview with `preview_samples` lens
+/// samples (0: none). Returns the number of passes (0 without a valid scene).
+/// Both images are cleared to black.
+#[no_mangle]
+pub extern "C" fn lr_setup(width: u32, height: u32, first_step: u32, preview_samples: u32) -> u32 {
+    with(|s| {
+        let w = width.clamp(1, lensray::camera::MAX_IMAGE_SIDE);
+        let h = height.clamp(1, lensray::camera::MAX_IMAGE_SIDE);
+        s.width = w;
+        s.height = h;
+        for img in s.images.iter_mut() {
+            img.clear();
+            img.resize(w as usize * h as usize * 4, 0);
+            for px in img.chunks_exact_mut(4) {
+                px[3] = 255;
+            }
+        }
+        s.passes.clear();
+        let Some(scene) = s.fixed.as_deref() else {
+            return 0;
+        };
+        // Both number types cast the same rays a pixel.
+        let rays = Renderer::new(scene, w, h).rays_per_pixel();
+        s.passes.extend(Schedule::new(first_step, preview_samples, rays));
+        s.passes.len() as u32
+    })
+}
+
+/// Block side of pass `i` (0 for no such pass).
+#[no_mangle]
+pub extern "C" fn lr_pass_step(i: u32) -> u32 {
+    with(|s| s.passes.get(i as usize).map_or(0, |p| p.step))
+}
+
+/// Lens samples a pixel of pass `i` (0 for no such pass).
+#[no_mangle]
+pub extern "C" fn lr_pass_samples(i: u32) -> u32 {
+    with(|s| s.passes.get(i as usize).map_or(0, |p| p.samples))
+}
+
+/// Grid rows of pass `i`: what [`lr_render`] counts in (0 for no such pass).
+#[no_mangle]
+pub extern "C" fn lr_pass_rows(i: u32) -> u32 {
+    with(|s| s.passes.get(i as usize).map_or(0, |p| s.height.div_ceil(p.step.max(1))))
+}
+
+/// Renders grid rows `first .. end` of pass `i` in number type `number` into
+/// its image. Returns the rays cast (with adaptive sampling, the most the
+/// pixels may cast), 0 for an empty range, a bad pass or no scene.
+#[no_mangle]
+pub extern "C" fn lr_render(number: u32, i: u32, first: u32, end: u32) -> f64 {
+    with(|s| {
+        let Some(pass) = s.passes.get(i as usize).copied() else {
+            return 0.0;
+        };
+        let (w, h) = (s.width, s.height);
+        let Some(img) = s.images.get_mut(number as usize) else {
+            return 0.0;
+        };
+        let mut target = RgbaTarget {
+            rgba: img,
+            width: w,
+            height: h,
+        };
+        match number {
+            NUMBER_FIXED => s
+                .fixed
+                .as_deref()
+                .map_or(0.0, |sc| rows(sc, &mut target, &pass, first, end)),
+            _ => s
+                .float
+                .as_deref()
+                .map_or(0.0, |sc| rows(sc, &mut target, &pass, first, end)),
+        }
+    })
+}
+
+fn rows<S: Scalar>(scene: &Scene<S>, target: &mut RgbaTarget<'_>, pass: &Pass, first: u32, end: u32) -> f64 {
+    let renderer = Renderer::new(scene, target.width, target.height);
+    let per_pixel = if renderer.camera().is_pinhole() {
+        1
+    } else {
+        pass.samples.min(renderer.rays_per_pixel())
+    };
+    let step = pass.step.max(1);
+    let mut pixels = 0u64;
+    for g in first..end.min(target.height.div_ceil(step)) {
+        let row = g * step;
+        let Ok(()) = progressive::render_pass_row(&renderer, target, pass, row);
+        pixels += (0..target.width).filter(|&c| pass.computes(c, row)).count() as u64;
+    }
+    pixels as f64 * per_pixel as f64
+}
+
+/// The RGBA image of number type `number` (`width * height * 4` bytes; null
+/// for a bad number).
+#[no_mangle]
+pub extern "C" fn lr_image(number: u32) -> *const u8 {
+    with(|s| s.images.get(number as usize).map_or(core::ptr::null(), |v| v.as_ptr()))
+}
+
+/// Depth (distance along the viewing direction) of the first surface the
+/// chief ray of pixel (`col`, `row`) meets, in number type `number`: where
+/// `focus_distance` puts that surface in focus. NaN where the ray meets
+/// nothing (or no scene).
+#[no_mangle]
+pub extern "C" fn lr_depth_at(number: u32, col: u32, row: u32) -> f64 {
+    with(|s| match number {
+        NUMBER_FIXED => s
+            .fixed
+            .as_deref()
+            .map_or(f64::NAN, |sc| hit_at(sc, s.width, s.height, col, row).1),
+        _ => s
+            .float
+            .as_deref()
+            .map_or(f64::NAN, |sc| hit_at(sc, s.width, s.height, col, row).1),
+    })
+}
+
+/// The object (numbered from 1 in file order, as `focus_on` counts) the chief
+/// ray of pixel (`col`, `row`) meets first; 0 for none.
+#[no_mangle]
+pub extern "C" fn lr_object_at(number: u32, col: u32, row: u32) -> u32 {
+    with(|s| match number {
+        NUMBER_FIXED => s
+            .fixed
+            .as_deref()
+            .map_or(0, |sc| hit_at(sc, s.width, s.height, col, row).0),
+        _ => s
+            .float
+            .as_deref()
+            .map_or(0, |sc| hit_at(sc, s.width, s.height, col, row).0),
+    })
+}
+
+/// The object (from 1; 0 for none) and depth (NaN for none) under a pixel's
+/// chief ray, from the lens centre through the pixel's film point: the ray
+/// every lens sample of that pixel converges with on the plane in focus.
+pub fn hit_at<S: Scalar>(scene: &Scene<S>, width: u32, height: u32, col: u32, row: u32) -> (u32, f64) {
+    let renderer = Renderer::new(scene, width.max(1), height.max(1));
+    let cam = renderer.camera();
+    if col >= cam.cols() || row >= cam.rows() {
+        return (0, f64::NAN);
+    }
+    let ray = cam.chief_ray_from(&cam.film_point(col, row));
+    let Some((i, hit)) = scene.closest_hit_camera_ray(&ray, renderer.cones()) else {
+        return (0, f64::NAN);
+    };
+    let (o, d, t) = (ray.origin.to_array(), ray.dir.to_array(), hit.t.to_f64());
+    let p = [0, 1, 2].map(|k| o[k].to_f64() + t * d[k].to_f64());
+    (i as u32 + 1, lensray::autofocus::depth(&scene.camera, p))
+}
+
+/// The parsed scene's camera, for the page's controls: 0 focus distance
+/// (depth of the plane in focus), 1 f-number, 2 lens radius, 3 aperture
+/// blades, 4 aperture rotation, 5 samples (`point`), 6 aspect ratio,
+/// 7 objects. NaN for another `what` or without a scene.
+#[no_mangle]
+pub extern "C" fn lr_camera(what: u32) -> f64 {
+    with(|s| {
+        let Some(sc) = s.float.as_deref() else {
+            return f64::NAN;
+        };
+        let c = &sc.camera;
+        match what {
+            0 => c.focus_depth(),
+            1 => c.f_number(),
+            2 => c.radius,
+            3 => c.aperture_blades as f64,
+            4 => c.aperture_rotation,
+            5 => c.samples as f64,
+            6 => c.aspect_ratio,
+            7 => sc.objects.len() as f64,
+            _ => f64::NAN,
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load(text: &str) -> u32 {
+        let p = lr_text_buffer(text.len() as u32);
+        unsafe { core::ptr::copy_nonoverlapping(text.as_ptr(), p, text.len()) };
+        lr_parse()
+    }
+
+    fn image(number: u32, w: u32, h: u32) -> Vec<u8> {
+        let p = lr_image(number);
+        unsafe { core::slice::from_raw_parts(p, (w * h * 4) as usize) }.to_vec()
+    }
+
+    fn program1() -> String {
+        std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../scenes/paper-program1.scene"
+        ))
+        .unwrap()
+    }
+
+    #[test]
+    fn passes_end_in_the_plain_render_of_both_number_types() {
+        let text = program1().replace("point 70", "point 5");
+        assert_eq!(load(&text), 0);
+        let (w, h) = (37, 23);
+        let n = lr_setup(w, h, 8, 1);
+        assert_eq!(n, 5, "preview, 8, 4, 2, 1");
+        for number in [NUMBER_FIXED, NUMBER_FLOAT] {
+            let mut rays = 0.0;
+            for i in 0..n {
+                // Odd chunks: rows may come in any grouping.
+                let rows = lr_pass_rows(i);
+                let mut g = 0;
+                while g < rows {
+                    rays += lr_render(number, i, g, g + 2);
+                    g += 2;
+                }
+            }
+            // Preview: 5 x 3 pixels at one sample; then every pixel at 5.
+            assert_eq!(rays, 15.0 + (w * h * 5) as f64);
+            let got = image(number, w, h);
+            let plain: Vec<u8> = if number == NUMBER_FIXED {
+                plain_render(&Scene::<I16F16>::parse(&text).unwrap(), w, h)
+            } else {
+                plain_render(&Scene::<f32>::parse(&text).unwrap(), w, h)
+            };
+            assert_eq!(got, plain, "number {number}");
+        }
+    }
+
+    fn plain_render<S: Scalar>(scene: &Scene<S>, w: u32, h: u32) -> Vec<u8> {
+        let renderer = Renderer::new(scene, w, h);
+        let mut out = vec![Rgb888::BLACK; w as usize];
+        let mut rgba = Vec::new();
+        for row in 0..h {
+            renderer.render_row(row, &mut out);
+            for c in &out {
+                rgba.extend_from_slice(&[c.r(), c.g(), c.b(), 255]);
+            }
+        }
+        rgba
+    }
+
+    #[test]
+    fn errors_name_their_line() {
+        assert_eq!(load("point 4\nradius 0.1\nligth_position 1 2 3\n"), 3);
+        let msg = unsafe { core::slice::from_raw_parts(lr_message(), lr_message_len() as usize) };
+        assert_eq!(
+            std::str::from_utf8(msg).unwrap(),
+            "line 3: unknown keyword \"ligth_position\""
+        );
+        assert_eq!(lr_setup(10, 10, 8, 1), 0, "no scene, no passes");
+        assert_eq!(lr_render(0, 0, 0, 10), 0.0);
+        assert!(lr_depth_at(0, 1, 1).is_nan());
+    }
+
+    #[test]
+    fn depth_under_a_pixel_is_the_surface_focus_on_finds() {
+        // Program 1's gold sphere (object 3): the centre pixel column through
+        // its middle sees its front; focus_on 3 puts focus on the point
+        // towards its centre, which a pixel near the image centre sees too.
+        assert_eq!(load(&program1()), 0);
+        let (w, h) = (320, 240);
+        lr_setup(w, h, 8, 1);
+        let sphere_centre_row = (h as f64 / 2.0 + 1.0 / 8.0 * 8.0 / (10.0 / w as f64)) as u32;
+        for number in [NUMBER_FIXED, NUMBER_FLOAT] {
+            assert_eq!(lr_object_at(number, w / 2, sphere_centre_row), 3);
+            let d = lr_depth_at(number, w / 2, sphere_centre_row);
+            let focus_on = 8.0 * (1.0 - 1.0 / 65f64.sqrt());
+            assert!((d - focus_on).abs() < 0.01, "{number}: {d} vs {focus_on}");
+            // The sky: nothing.
+            assert_eq!(lr_object_at(number, w / 2, 0), 0);
+            assert!(lr_depth_at(number, w / 2, 0).is_nan());
+        }
+    }
+}
