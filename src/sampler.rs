@@ -137,6 +137,25 @@ impl PixelSamples {
     }
 }
 
+impl crate::baked::Field for Sampler {
+    fn put(&self, w: &mut crate::baked::Writer<'_>) {
+        crate::baked::Field::put(&(*self as u8), w);
+    }
+    fn take(&mut self, r: &mut crate::baked::Reader<'_>) -> Result<(), crate::baked::BakeError> {
+        let mut tag = 0u8;
+        crate::baked::Field::take(&mut tag, r)?;
+        *self = match tag {
+            0 => Sampler::Independent,
+            1 => Sampler::Stratified,
+            _ => return Err(crate::baked::BakeError::OutOfRange("unknown lens sampler")),
+        };
+        Ok(())
+    }
+    fn blank() -> Self {
+        Sampler::default()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -296,24 +315,5 @@ mod tests {
     fn ap_sample(ap: &Aperture, r: &mut Lfsr) -> (f64, f64) {
         let (x, y) = ap.sample(r);
         (x as f64 / 32768.0, y as f64 / 32768.0)
-    }
-}
-
-impl crate::baked::Field for Sampler {
-    fn put(&self, w: &mut crate::baked::Writer<'_>) {
-        crate::baked::Field::put(&(*self as u8), w);
-    }
-    fn take(&mut self, r: &mut crate::baked::Reader<'_>) -> Result<(), crate::baked::BakeError> {
-        let mut tag = 0u8;
-        crate::baked::Field::take(&mut tag, r)?;
-        *self = match tag {
-            0 => Sampler::Independent,
-            1 => Sampler::Stratified,
-            _ => return Err(crate::baked::BakeError::OutOfRange("unknown lens sampler")),
-        };
-        Ok(())
-    }
-    fn blank() -> Self {
-        Sampler::default()
     }
 }
