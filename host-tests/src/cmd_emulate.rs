@@ -10,7 +10,7 @@
 use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::{Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
@@ -326,24 +326,23 @@ pub(crate) fn firmware_dir() -> Result<PathBuf, Fail> {
     Ok(dir)
 }
 
-/// Runs the ELF under QEMU in `dir` with instruction counting; its console
-/// output, or an error if it fails, exits non-zero or outlives `timeout`.
-fn run_qemu(board: &Board, elf: &Path, dir: &Path, timeout: Duration) -> Result<String, Fail> {
-    let mut child = Command::new(board.qemu_program)
-        .args(board.qemu)
-        .args(["-nographic", "-monitor", "none", "-serial", "null"])
-        .args(["-semihosting-config", "enable=on,target=native", "-icount", "shift=0"])
-        .arg("-kernel")
-        .arg(elf)
-        .current_dir(dir)
+/// Runs `cmd` with its output piped, killed after `timeout`: its exit status
+/// (`None` when it was killed), its stdout, and all it printed (stdout then
+/// stderr) for an error message.
+pub(crate) fn run_bounded(
+    cmd: &mut Command,
+    program: &str,
+    timeout: Duration,
+) -> Result<(Option<ExitStatus>, String, String), Fail> {
+    let mut child = cmd
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .map_err(|e| Fail(format!("cannot run {}: {e}", board.qemu_program)))?;
-    let mut stdout = child.stdout.take().ok_or("no QEMU stdout")?;
-    let mut stderr = child.stderr.take().ok_or("no QEMU stderr")?;
-    // Pipes drained on their own threads, so a chatty QEMU never blocks.
+        .map_err(|e| Fail(format!("cannot run {program}: {e}")))?;
+    let mut stdout = child.stdout.take().ok_or("no stdout from the emulator")?;
+    let mut stderr = child.stderr.take().ok_or("no stderr from the emulator")?;
+    // Pipes drained on their own threads, so a chatty emulator never blocks.
     let out_reader = std::thread::spawn(move || {
         let mut s = String::new();
         let _ = stdout.read_to_string(&mut s);
@@ -356,7 +355,10 @@ fn run_qemu(board: &Board, elf: &Path, dir: &Path, timeout: Duration) -> Result<
     });
     let start = Instant::now();
     let status = loop {
-        if let Some(status) = child.try_wait().map_err(|e| Fail(format!("waiting for QEMU: {e}")))? {
+        if let Some(status) = child
+            .try_wait()
+            .map_err(|e| Fail(format!("waiting for {program}: {e}")))?
+        {
             break Some(status);
         }
         if start.elapsed() > timeout {
@@ -369,6 +371,20 @@ fn run_qemu(board: &Board, elf: &Path, dir: &Path, timeout: Duration) -> Result<
     let out = out_reader.join().unwrap_or_default();
     let err = err_reader.join().unwrap_or_default();
     let said = format!("{out}{err}").trim_end().to_string();
+    Ok((status, out, said))
+}
+
+/// Runs the ELF under QEMU in `dir` with instruction counting; its console
+/// output, or an error if it fails, exits non-zero or outlives `timeout`.
+fn run_qemu(board: &Board, elf: &Path, dir: &Path, timeout: Duration) -> Result<String, Fail> {
+    let mut cmd = Command::new(board.qemu_program);
+    cmd.args(board.qemu)
+        .args(["-nographic", "-monitor", "none", "-serial", "null"])
+        .args(["-semihosting-config", "enable=on,target=native", "-icount", "shift=0"])
+        .arg("-kernel")
+        .arg(elf)
+        .current_dir(dir);
+    let (status, out, said) = run_bounded(&mut cmd, board.qemu_program, timeout)?;
     match status {
         None => Err(Fail(format!(
             "the firmware on {} did not finish within {} s (--timeout); it said:\n{said}",

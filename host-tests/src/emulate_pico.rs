@@ -8,16 +8,15 @@
 //! `lensray render --panel rgb565` of the same scene and size. The frame is
 //! timed on the emulated RP2040 in cycles of its 125 MHz clock.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use lensray::{Renderer, Scalar, I16F16};
 use lensray_host::panel::image_from_rgb565;
 use lensray_host::{encode, load_scene, write_atomic, Format};
 
-use crate::cmd_emulate::{firmware_dir, WorkDir};
+use crate::cmd_emulate::{firmware_dir, run_bounded, WorkDir};
 use crate::opts::{image_size, RenderOpts};
 use crate::Fail;
 
@@ -191,44 +190,13 @@ fn run_node(
     height: u32,
     timeout: Duration,
 ) -> Result<String, Fail> {
-    let mut child = Command::new("node")
-        .arg(emu.join("run.js"))
+    let mut cmd = Command::new("node");
+    cmd.arg(emu.join("run.js"))
         .arg(elf)
         .args(["--width", &width.to_string(), "--height", &height.to_string()])
         .arg("--out")
-        .arg(picture)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .map_err(|e| Fail(format!("cannot run node: {e}")))?;
-    let mut stdout = child.stdout.take().ok_or("no stdout from node")?;
-    let mut stderr = child.stderr.take().ok_or("no stderr from node")?;
-    let out_reader = std::thread::spawn(move || {
-        let mut s = String::new();
-        let _ = stdout.read_to_string(&mut s);
-        s
-    });
-    let err_reader = std::thread::spawn(move || {
-        let mut s = String::new();
-        let _ = stderr.read_to_string(&mut s);
-        s
-    });
-    let start = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().map_err(|e| Fail(format!("waiting for node: {e}")))? {
-            break Some(status);
-        }
-        if start.elapsed() > timeout {
-            let _ = child.kill();
-            let _ = child.wait();
-            break None;
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let out = out_reader.join().unwrap_or_default();
-    let err = err_reader.join().unwrap_or_default();
-    let said = format!("{out}{err}").trim_end().to_string();
+        .arg(picture);
+    let (status, out, said) = run_bounded(&mut cmd, "node", timeout)?;
     match status {
         None => Err(Fail(format!(
             "the firmware on pico did not finish within {} s (--timeout); it said:\n{said}",
