@@ -13,7 +13,7 @@ use embedded_graphics_core::Pixel;
 pub enum RowError {
     /// The host refused a write.
     Io,
-    /// A pixel outside the next row: rows must arrive in order, one at a time.
+    /// A pixel out of raster order: rows top to bottom, pixels left to right.
     OutOfOrder,
 }
 
@@ -26,17 +26,26 @@ impl From<IoError> for RowError {
 /// An image `W` pixels wide (`BYTES = 3 W`), `height` rows high, sent row by row.
 pub struct RowFile<const BYTES: usize> {
     file: HostFile,
-    row: [u8; BYTES],
+    /// Pixels waiting to be written: a row goes out in chunks, so the RAM
+    /// this costs does not grow with the image width.
+    chunk: [u8; CHUNK],
+    filled: usize,
+    /// The next pixel expected: rows top to bottom, pixels left to right.
+    next_x: u32,
     next_row: u32,
     height: u32,
 }
 
+/// Bytes buffered before a write: 16 pixels (a row is `BYTES`).
+const CHUNK: usize = 48;
+
 impl<const BYTES: usize> RowFile<BYTES> {
-    /// Creates `name` on the host for an image `height` rows high.
     pub fn create(name: &str, height: u32) -> Result<Self, RowError> {
         Ok(RowFile {
             file: HostFile::create(name)?,
-            row: [0; BYTES],
+            chunk: [0; CHUNK],
+            filled: 0,
+            next_x: 0,
             next_row: 0,
             height,
         })
@@ -46,22 +55,28 @@ impl<const BYTES: usize> RowFile<BYTES> {
         (BYTES / 3) as u32
     }
 
-    fn put(&mut self, x: usize, c: Rgb888) {
-        self.row[3 * x..3 * x + 3].copy_from_slice(&[c.r(), c.g(), c.b()]);
-    }
-
-    fn send_row(&mut self) -> Result<(), RowError> {
-        self.file.write_all(&self.row)?;
-        self.next_row += 1;
+    /// Appends the next pixel of the row; writes a full chunk, and the rest
+    /// at the row's end.
+    fn push(&mut self, c: Rgb888) -> Result<(), RowError> {
+        self.chunk[self.filled..self.filled + 3].copy_from_slice(&[c.r(), c.g(), c.b()]);
+        self.filled += 3;
+        self.next_x += 1;
+        let row_done = self.next_x == self.width();
+        if self.filled == CHUNK || row_done {
+            self.file.write_all(&self.chunk[..self.filled])?;
+            self.filled = 0;
+        }
+        if row_done {
+            self.next_x = 0;
+            self.next_row += 1;
+        }
         Ok(())
     }
 
-    /// Rows sent so far.
     pub fn rows_sent(&self) -> u32 {
         self.next_row
     }
 
-    /// Closes the file.
     pub fn close(self) -> Result<(), RowError> {
         Ok(self.file.close()?)
     }
@@ -77,31 +92,30 @@ impl<const BYTES: usize> DrawTarget for RowFile<BYTES> {
     type Color = Rgb888;
     type Error = RowError;
 
-    /// Pixels of the next row, in any order; the row is sent when its last
-    /// pixel (the rightmost) arrives.
+    /// Pixels in raster order (left to right, rows top to bottom): they are
+    /// streamed as they come, so anything else is refused.
     fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(&mut self, pixels: I) -> Result<(), RowError> {
         for Pixel(p, c) in pixels {
-            if p.y != self.next_row as i32 || p.x < 0 || p.x >= self.width() as i32 {
+            if p.y != self.next_row as i32 || p.x != self.next_x as i32 {
                 return Err(RowError::OutOfOrder);
             }
-            self.put(p.x as usize, c);
-            if p.x == self.width() as i32 - 1 {
-                self.send_row()?;
-            }
+            self.push(c)?;
         }
         Ok(())
     }
 
-    /// The fast path: one whole row, sent in one write.
+    /// The fast path: one whole row, streamed in chunks.
     fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(&mut self, area: &Rectangle, colors: I) -> Result<(), RowError> {
-        let whole_row =
-            area.top_left.x == 0 && area.top_left.y == self.next_row as i32 && area.size == Size::new(self.width(), 1);
+        let whole_row = self.next_x == 0
+            && area.top_left.x == 0
+            && area.top_left.y == self.next_row as i32
+            && area.size == Size::new(self.width(), 1);
         if !whole_row {
             return Err(RowError::OutOfOrder);
         }
-        for (x, c) in colors.into_iter().take(self.width() as usize).enumerate() {
-            self.put(x, c);
+        for c in colors.into_iter().take(self.width() as usize) {
+            self.push(c)?;
         }
-        self.send_row()
+        Ok(())
     }
 }
