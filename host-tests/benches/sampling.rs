@@ -107,16 +107,7 @@ fn main() {
         };
         let independent = curve(Sampler::Independent);
         let stratified = curve(Sampler::Stratified);
-        let default = measure(
-            &text,
-            &truth,
-            Setting {
-                samples: point,
-                sampler: Sampler::Stratified,
-                adaptive: true,
-            },
-        )
-        .unwrap();
+        let default = measure(&text, &truth, Setting::default_render(point)).unwrap();
         eprintln!(
             "{name}: independent {point}: {:.2} dB, stratified {point}: {:.2} dB, default {:.2} dB at {:.1} rays",
             independent.last().unwrap().1.psnr,

@@ -36,6 +36,17 @@ pub struct Setting {
     pub adaptive: bool,
 }
 
+impl Setting {
+    /// What a scene renders with by default: stratified, adaptive, `point` at most.
+    pub fn default_render(point: u32) -> Self {
+        Setting {
+            samples: point,
+            sampler: Sampler::Stratified,
+            adaptive: true,
+        }
+    }
+}
+
 /// Renders `text` (Q16.16 unless `float`) at `w`×`h` with `setting`; the
 /// image and the mean rays a pixel.
 pub fn render_text(text: &str, w: u32, h: u32, setting: Setting, float: bool) -> Result<(Image, f64), String> {

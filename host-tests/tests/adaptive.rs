@@ -38,16 +38,7 @@ fn floors_hold(name: &str, w: u32, h: u32) {
     // The default render: the scene as written (stratified, adaptive).
     let scene = Scene::<I16F16>::parse(&text).unwrap();
     assert!(scene.camera.adaptive && scene.camera.sampler == Sampler::Stratified);
-    let default = measure(
-        &text,
-        &truth,
-        Setting {
-            samples: point,
-            sampler: Sampler::Stratified,
-            adaptive: true,
-        },
-    )
-    .unwrap();
+    let default = measure(&text, &truth, Setting::default_render(point)).unwrap();
     println!(
         "{name} {w}x{h}: independent {point}: {:.2} dB; default: {:.2} dB at {:.1} rays a pixel ({:.1} %)",
         independent.psnr,
