@@ -23,14 +23,15 @@ import { serve } from '../serve.mjs';
 const web = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 const root = path.dirname(web);
 const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'lensray-web-'));
-const host = path.join(root, 'target', 'release', 'lensray');
+// The test profile's build (target/debug): the one the host tests already made.
+const host = path.join(root, 'target', 'debug', 'lensray');
 // Small pictures: every preset twice stays within seconds.
 const W = 48, H = 36;
 
 let server, browser, base;
 
 before(async () => {
-  execFileSync('cargo', ['build', '--release', '-q', '-p', 'lensray-host', '--bin', 'lensray'], { cwd: root, stdio: 'inherit' });
+  execFileSync('cargo', ['build', '--profile', 'test', '-q', '-p', 'lensray-host', '--bin', 'lensray'], { cwd: root, stdio: 'inherit' });
   server = await serve(path.join(web, 'dist'), 0);
   base = `http://127.0.0.1:${server.address().port}/`;
   browser = await chromium.launch({ executablePath: process.env.CHROMIUM || '/usr/bin/chromium', args: ['--no-sandbox'] });
