@@ -265,23 +265,30 @@ mod tests {
             assert_eq!(ap.blades(), n);
             // Cells of equal area: one triangle per edge, cut into 4 rings of
             // equal area by the gauge (the area within gauge g grows as g²).
-            let mut counts = vec![0u32; n as usize * 4];
-            for p in samples(&ap) {
-                let (g, k) = gauge(n, rot, p);
-                assert!(g < 1.0 + 1e-4, "{n} blades: {p:?} outside, gauge {g}");
-                counts[k * 4 + ((g * g * 4.0) as usize).min(3)] += 1;
-            }
-            let e = 100_000.0 / counts.len() as f64;
-            let chi2: f64 = counts.iter().map(|&c| (c as f64 - e).powi(2) / e).sum();
-            // 99.9th percentiles of chi-square with 4n − 1 degrees of freedom.
-            let limit = match n {
-                3 => 31.3,
-                5 => 43.8,
-                6 => 49.7,
-                _ => 103.4,
-            };
-            assert!(chi2 < limit, "{n} blades: chi-square {chi2}, counts {counts:?}");
+            assert_inside_and_uniform(n, rot, samples(&ap));
         }
+    }
+
+    /// 100,000 points of an `n`-bladed aperture turned by `rot`: all inside,
+    /// and uniform over cells of equal area (one triangle per edge, cut into
+    /// 4 rings of equal area by the gauge: the area within gauge g grows as g²).
+    fn assert_inside_and_uniform(n: u32, rot: f64, points: impl IntoIterator<Item = (f64, f64)>) {
+        let mut counts = vec![0u32; n as usize * 4];
+        for p in points {
+            let (g, k) = gauge(n, rot, p);
+            assert!(g < 1.0 + 1e-4, "{n} blades: {p:?} outside, gauge {g}");
+            counts[k * 4 + ((g * g * 4.0) as usize).min(3)] += 1;
+        }
+        let e = 100_000.0 / counts.len() as f64;
+        let chi2: f64 = counts.iter().map(|&c| (c as f64 - e).powi(2) / e).sum();
+        // 99.9th percentiles of chi-square with 4n − 1 degrees of freedom.
+        let limit = match n {
+            3 => 31.3,
+            5 => 43.8,
+            6 => 49.7,
+            _ => 103.4,
+        };
+        assert!(chi2 < limit, "{n} blades: chi-square {chi2}, counts {counts:?}");
     }
 
     #[test]
@@ -378,22 +385,7 @@ mod tests {
         assert!(chi2 < 61.1, "disk: chi-square {chi2}");
         // Polygons: inside, and uniform over the cells of the rejection test above.
         for (n, rot) in [(3, 90.0), (5, 0.0), (6, 15.0), (16, 7.0)] {
-            let ap = Aperture::regular(n, rot);
-            let mut counts = vec![0u32; n as usize * 4];
-            for p in mapped(&ap) {
-                let (g, k) = gauge(n, rot, p);
-                assert!(g < 1.0 + 1e-4, "{n} blades: {p:?} outside, gauge {g}");
-                counts[k * 4 + ((g * g * 4.0) as usize).min(3)] += 1;
-            }
-            let e = 100_000.0 / counts.len() as f64;
-            let chi2: f64 = counts.iter().map(|&c| (c as f64 - e).powi(2) / e).sum();
-            let limit = match n {
-                3 => 31.3,
-                5 => 43.8,
-                6 => 49.7,
-                _ => 103.4,
-            };
-            assert!(chi2 < limit, "{n} blades: chi-square {chi2}, counts {counts:?}");
+            assert_inside_and_uniform(n, rot, mapped(&Aperture::regular(n, rot)));
         }
     }
 }
