@@ -138,7 +138,8 @@ function render() {
   history.replaceState(null, '', hash);
   $('link').href = hash;
   lensray.timings = { id, width: state.width, height: state.height, number: state.number,
-    start: performance.now(), firstFrame: null, previewDone: null, done: null, maxMainGap: 0, maxMainGapAfterFirstFrame: 0, ticks: 0 };
+    start: performance.now(), firstFrame: null, previewDone: null, done: null, maxMainGap: 0, maxMainGapAfterFirstFrame: 0, ticks: 0,
+    longTasks: 0, longestTask: 0 };
   worker.postMessage({ type: 'render', id, text: text.value, width: state.width, height: state.height,
     number: numberIndex(), heat: state.heat });
 }
@@ -155,6 +156,19 @@ setInterval(() => {
   }
   lastTick = now;
 }, 10);
+
+// The browser's own long-task entries (main-thread tasks over 50 ms) while a render runs.
+if (typeof PerformanceObserver !== 'undefined' && PerformanceObserver.supportedEntryTypes?.includes('longtask')) {
+  new PerformanceObserver((list) => {
+    const t = lensray.timings;
+    if (!t) return;
+    for (const e of list.getEntries()) {
+      if (e.startTime + e.duration < t.start || (t.done !== null && e.startTime > t.start + t.done)) continue;
+      t.longTasks++;
+      t.longestTask = Math.max(t.longestTask, e.duration);
+    }
+  }).observe({ type: 'longtask', buffered: false });
+}
 
 function draw(target, rgba, w, h) {
   if (target.width !== w || target.height !== h) { target.width = w; target.height = h; }
