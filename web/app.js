@@ -139,7 +139,7 @@ function render() {
   $('link').href = hash;
   lensray.timings = { id, width: state.width, height: state.height, number: state.number,
     start: performance.now(), firstFrame: null, previewDone: null, done: null, maxMainGap: 0, maxMainGapAfterFirstFrame: 0, ticks: 0,
-    longTasks: 0, longestTask: 0 };
+    longTasks: 0, longestTask: 0, longestTaskAfterFirstFrame: 0, longTaskList: [] };
   worker.postMessage({ type: 'render', id, text: text.value, width: state.width, height: state.height,
     number: numberIndex(), heat: state.heat });
 }
@@ -166,6 +166,9 @@ if (typeof PerformanceObserver !== 'undefined' && PerformanceObserver.supportedE
       if (e.startTime + e.duration < t.start || (t.done !== null && e.startTime > t.start + t.done)) continue;
       t.longTasks++;
       t.longestTask = Math.max(t.longestTask, e.duration);
+      // After the first frame the worker renders and the page only draws.
+      if (t.firstFrame !== null && e.startTime >= t.start + t.firstFrame) t.longestTaskAfterFirstFrame = Math.max(t.longestTaskAfterFirstFrame, e.duration);
+      t.longTaskList.push([Math.round(e.startTime - t.start), Math.round(e.duration)]);
     }
   }).observe({ type: 'longtask', buffered: false });
 }
