@@ -170,6 +170,15 @@ test('a link reopens the same picture, and the heat map gives the PSNR of the tw
   const again = await openLink(link);
   assert.deepEqual(await pageImage(again), first);
   await again.close();
+  // In f32 the link says so, and reopens in f32.
+  await rendered(page, () => page.selectOption('#number', 'f32'));
+  const floatLink = await page.getAttribute('#link', 'href');
+  assert.match(floatLink, /^#scene=[A-Za-z0-9_-]+&number=f32&width=64&height=40$/);
+  const floatPage = await openLink(floatLink);
+  assert.equal(await floatPage.inputValue('#number'), 'f32');
+  assert.deepEqual(await pageImage(floatPage), await pageImage(page));
+  assert.notDeepEqual(await pageImage(floatPage), first, 'Q16.16 and f32 differ somewhere in Program 1');
+  await floatPage.close();
   await page.close();
 });
 
