@@ -4,10 +4,10 @@
 //
 // - Every preset, Q16.16 and f32: the page's "Save PNG" is bit for bit the
 //   host's `lensray render` of the same scene and size.
-// - Click-to-focus on each object of Program 1 (the floor too) and of the
-//   other presets with a lens, at points chosen by rule from the page's
-//   object and depth pass: the clicked object is the sharpest (the least
-//   blur radius, measured against the all-sharp pinhole picture).
+// - Click-to-focus on each object of Program 1 (the floor too), of the
+//   other presets with a lens and of random scenes, at points chosen by rule
+//   from the page's object and depth pass: the clicked object is the
+//   sharpest (the least blur radius, against the all-sharp pinhole picture).
 // - The camera controls write their keywords; the picture is then the
 //   host's render of the text in the editor.
 // - A typed error: its line is marked with the parser's message.
