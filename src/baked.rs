@@ -153,6 +153,9 @@ impl fmt::Display for BakeError {
     }
 }
 
+/// Bad baked bytes are an error like any other (`?` into `Box<dyn Error>`).
+impl core::error::Error for BakeError {}
+
 fn number_name(tag: u8) -> &'static str {
     match tag {
         0 => "Q16.16",

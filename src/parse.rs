@@ -271,6 +271,10 @@ impl fmt::Display for ParseError {
     }
 }
 
+/// A scene that does not parse is an error like any other (`?` into
+/// `Box<dyn Error>` on the host, `defmt`-free reports on a board).
+impl core::error::Error for ParseError {}
+
 /// Every keyword of the format.
 pub const KEYWORDS: [&str; 31] = [
     "focus_distance",

@@ -42,7 +42,7 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     const MAX: Self;
     /// Smallest ray parameter that counts as a hit (about 2⁻¹⁰ world units):
     /// keeps a reflected or shadow ray from hitting the surface it left.
-    const EPSILON: Self;
+    const HIT_EPSILON: Self;
     /// Short human name of the number type ("Q16.16", "f32").
     const NAME: &'static str;
 
@@ -426,7 +426,7 @@ impl Scalar for I16F16 {
     const ZERO: Self = I16F16::ZERO;
     const ONE: Self = I16F16::ONE;
     const MAX: Self = I16F16::MAX;
-    const EPSILON: Self = I16F16::from_bits(64);
+    const HIT_EPSILON: Self = I16F16::from_bits(64);
     const NAME: &'static str = "Q16.16";
     type Row = FixedRow;
     type Acc = i64;
@@ -780,7 +780,7 @@ impl Scalar for f32 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const MAX: Self = f32::MAX;
-    const EPSILON: Self = 1.0 / 1024.0;
+    const HIT_EPSILON: Self = 1.0 / 1024.0;
     const NAME: &'static str = "f32";
     type Row = [f32; 4];
     /// f64, so that summing many samples adds no error of its own (the Q16.16

@@ -491,7 +491,7 @@ impl<S: Scalar> Scene<S> {
     /// [`LensCones`]): [`Scene::closest_hit_dir`] with the objects out of the
     /// ray's reach skipped.
     pub fn closest_hit_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Option<(usize, Hit<S>)> {
-        self.closest_hit_culled(ray.origin, ray.dir, ray.precise, S::EPSILON, Some(cones))
+        self.closest_hit_culled(ray.origin, ray.dir, ray.precise, S::HIT_EPSILON, Some(cones))
     }
 
     /// As [`Scene::closest_hit_dir`], skipping the objects a ray from the
@@ -550,7 +550,7 @@ impl<S: Scalar> Scene<S> {
     }
 
     fn trace_culled(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, cones: Option<&LensCones<S>>) -> Vec3<S> {
-        let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::EPSILON, cones) else {
+        let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::HIT_EPSILON, cones) else {
             return self.background;
         };
         let obj = &self.objects[i];
@@ -566,7 +566,7 @@ impl<S: Scalar> Scene<S> {
         };
         let mut colour = ka.hadamard(self.ambient);
         // Shadow rays leave from just above the surface, on the viewer's side.
-        let p_shadow = if self.shadows { p + n * S::EPSILON } else { p };
+        let p_shadow = if self.shadows { p + n * S::HIT_EPSILON } else { p };
         for light in &self.lights {
             let to_light = light.position - p;
             // A light behind the surface needs no normalising (in Program 1, the
@@ -579,7 +579,7 @@ impl<S: Scalar> Scene<S> {
             if n_dot_l <= S::ZERO {
                 continue;
             }
-            if self.shadows && self.any_hit(p_shadow, l, S::EPSILON, dist) {
+            if self.shadows && self.any_hit(p_shadow, l, S::HIT_EPSILON, dist) {
                 continue;
             }
             let r = n * n_dot_l.add(n_dot_l) - l;
@@ -614,7 +614,7 @@ mod tests {
     /// World-space hit distance and unit normal (facing the ray), in f64.
     fn hit<S: Scalar>(obj: &Object<S>, o: [f64; 3], d: [f64; 3]) -> Option<(f64, [f64; 3])> {
         let (o, d) = (Vec3::<S>::from_f64(o), Vec3::<S>::from_f64(d).normalize());
-        let h = obj.intersect(o, d, S::EPSILON, S::MAX)?;
+        let h = obj.intersect(o, d, S::HIT_EPSILON, S::MAX)?;
         Some((h.t.to_f64(), obj.normal(&h, d).to_f64()))
     }
 

@@ -226,7 +226,7 @@ fn side_hit<S: Scalar>(
 
 /// `|a|` below about 2⁻¹²: treated as zero for a quadratic's leading term.
 fn negligible<S: Scalar>(a: S) -> bool {
-    a.abs() < S::EPSILON.mul(S::from_q15(2048))
+    a.abs() < S::HIT_EPSILON.mul(S::from_q15(2048))
 }
 
 fn cylinder<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
@@ -291,8 +291,8 @@ mod tests {
     fn hit_both(shape: Shape, o: [f64; 3], d: [f64; 3]) -> Option<(f64, [f64; 3], [f64; 3])> {
         let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         let d = if shape == Shape::Plane { d } else { d.map(|x| x / len) };
-        let hf = shape.intersect::<f32>(v(o[0], o[1], o[2]), v(d[0], d[1], d[2]), f32::EPSILON_HIT, f32::MAX);
-        let hx = shape.intersect::<I16F16>(v(o[0], o[1], o[2]), v(d[0], d[1], d[2]), I16F16::EPSILON, I16F16::MAX);
+        let hf = shape.intersect::<f32>(v(o[0], o[1], o[2]), v(d[0], d[1], d[2]), <f32 as Scalar>::HIT_EPSILON, f32::MAX);
+        let hx = shape.intersect::<I16F16>(v(o[0], o[1], o[2]), v(d[0], d[1], d[2]), I16F16::HIT_EPSILON, I16F16::MAX);
         assert_eq!(
             hf.is_some(),
             hx.is_some(),
@@ -304,13 +304,6 @@ mod tests {
             assert!((a - b).abs() < 1e-3, "p {hf:?} vs {hx:?}");
         }
         Some((hf.t.to_f64(), hf.p.to_f64(), hf.n.to_f64()))
-    }
-
-    trait Eps {
-        const EPSILON_HIT: Self;
-    }
-    impl Eps for f32 {
-        const EPSILON_HIT: f32 = <f32 as Scalar>::EPSILON;
     }
 
     fn unit(n: [f64; 3]) -> [f64; 3] {

@@ -132,7 +132,7 @@ pub fn run<S: Scalar>(
                             continue;
                         }
                         let t_max = best.map_or(S::MAX, |(_, h)| h.t);
-                        let (h, t) = time(counter, ov, || obj.intersect_dir(o, d, precise, S::EPSILON, t_max));
+                        let (h, t) = time(counter, ov, || obj.intersect_dir(o, d, precise, S::HIT_EPSILON, t_max));
                         let k = shape_index(obj.shape);
                         match h {
                             Some(h) => {
