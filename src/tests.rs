@@ -247,7 +247,10 @@ fn fixed_levels_by_one_multiply_are_exact() {
 #[test]
 fn parse_and_bake_errors_are_core_errors() {
     let parse: std::boxed::Box<dyn core::error::Error> = Scene::<I16F16>::parse("object cone\n").unwrap_err().into();
-    assert!(parse.to_string().starts_with("line 2") || parse.to_string().starts_with("line 1"), "{parse}");
-    let bake: std::boxed::Box<dyn core::error::Error> = crate::baked::BakeError::ForeignMagic.into();
+    assert!(
+        parse.to_string().starts_with("line 2") || parse.to_string().starts_with("line 1"),
+        "{parse}"
+    );
+    let bake: std::boxed::Box<dyn core::error::Error> = crate::bytes::BakeError::ForeignMagic.into();
     assert!(bake.to_string().contains("LRBK"), "{bake}");
 }

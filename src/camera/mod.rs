@@ -11,16 +11,21 @@
 //! `p_focus − p_lens` is parallel to `p_film − p_lens / m`, which keeps every
 //! number near the film's size however far the focus lies: what Q16.16 needs.
 //!
-//! The lens samples arrive from outside (see [`crate::lfsr`]), so the camera
+//! The lens samples arrive from outside (see [`crate::camera::lfsr`]), so the camera
 //! itself is deterministic.
 
-use crate::aperture::Aperture;
-use crate::film::FilmMapDesc;
-use crate::lfsr::Lfsr;
-use crate::scalar::Scalar;
-use crate::scene::CameraParams;
-use crate::transform::{Affine, Mat34};
-use crate::vec3::Vec3;
+use crate::camera::aperture::Aperture;
+use crate::camera::lfsr::Lfsr;
+use crate::camera::sampler::Sampler;
+pub use crate::geometry::ray::Ray;
+use crate::geometry::transform::{Affine, Mat34};
+use crate::geometry::vec3::Vec3;
+use crate::number::film::FilmMapDesc;
+use crate::number::Scalar;
+
+pub mod aperture;
+pub mod lfsr;
+pub mod sampler;
 
 /// Largest image side the camera accepts (pixel indices enter Q16.16 as
 /// `2c + 1`, which must stay below 32768).
@@ -31,7 +36,7 @@ pub const MAX_IMAGE_SIDE: u32 = 8192;
 pub struct Camera<S: Scalar> {
     /// Maps `(2c + 1, 2r + 1, 0)` to the film point `(u_c, v_r, −N)`.
     film: Affine<S>,
-    /// Pixel → world direction of its rays, exactly (see [`crate::film`]).
+    /// Pixel → world direction of its rays, exactly (see [`crate::number::film`]).
     map: S::FilmMap,
     /// The lens centre E in world space: the chief rays' common origin.
     eye: Vec3<S>,
@@ -46,26 +51,101 @@ pub struct Camera<S: Scalar> {
     rows: u32,
 }
 
-impl<S: crate::baked::BakeScalar> crate::baked::Field for Camera<S> {
-    crate::baked::baked_fields!(Camera { film, map, eye, lens_u, lens_v, pinhole, aperture, cols, rows }, check(cam) {
+impl<S: crate::number::BakeScalar> crate::bytes::Field for Camera<S> {
+    crate::bytes::baked_fields!(Camera { film, map, eye, lens_u, lens_v, pinhole, aperture, cols, rows }, check(cam) {
         if !(1..=MAX_IMAGE_SIDE).contains(&cam.cols) || !(1..=MAX_IMAGE_SIDE).contains(&cam.rows) {
-            return Err(crate::baked::BakeError::OutOfRange("image side not in 1..=8192"));
+            return Err(crate::bytes::BakeError::OutOfRange("image side not in 1..=8192"));
         }
         if !S::film_map_fits(&cam.map, cam.cols, cam.rows) {
-            return Err(crate::baked::BakeError::OutOfRange("film map too large for the image"));
+            return Err(crate::bytes::BakeError::OutOfRange("film map too large for the image"));
         }
     });
 }
 
-/// A primary ray in world space, with a unit direction.
+/// The camera statements of a scene, exactly as written (defaults filled in).
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Ray<S: Scalar> {
-    /// Origin: the lens point.
-    pub origin: Vec3<S>,
-    /// Unit direction.
-    pub dir: Vec3<S>,
-    /// The same unit direction held more precisely (for the plane).
-    pub precise: S::Dir,
+pub struct CameraParams {
+    /// Film width in world units (`width`).
+    pub width: f64,
+    /// Film width / height (`aspect_ratio`): the host's default image height.
+    pub aspect_ratio: f64,
+    /// Lens-to-film distance N (`image_distance`).
+    pub image_distance: f64,
+    /// Lens centre E (`lens_position`).
+    pub lens_position: [f64; 3],
+    /// Focal length f, 0 < f < N (`focal_length`).
+    pub focal_length: f64,
+    /// Viewing direction (`look`), not zero.
+    pub look: [f64; 3],
+    /// Up direction (`up`), not parallel to `look`.
+    pub up: [f64; 3],
+    /// Lens samples per pixel (`point`), 1..=65535.
+    pub samples: u32,
+    /// Lens radius a (`radius`); 0 is a pinhole.
+    pub radius: f64,
+    /// Blades of the aperture (`aperture_blades`): 0 is a round aperture, else
+    /// the lens is a regular polygon of that many sides (3 to
+    /// [`crate::camera::aperture::MAX_BLADES`]) inscribed in the circle of radius a.
+    pub aperture_blades: u32,
+    /// Rotation of the aperture polygon in degrees (`aperture_rotation`): at 0
+    /// a corner points along the camera's u (right); positive turns towards v (up).
+    pub aperture_rotation: f64,
+    /// Adaptive lens sampling (`adaptive on|off`): a pixel stops taking lens
+    /// samples once their mean is settled (see [`crate::Renderer::pixel_rays`]).
+    pub adaptive: bool,
+    /// How lens points are drawn (`sampler independent|stratified`).
+    pub sampler: Sampler,
+}
+
+impl Default for CameraParams {
+    fn default() -> Self {
+        CameraParams {
+            width: 10.0,
+            aspect_ratio: 1.33,
+            image_distance: 8.0,
+            lens_position: [0.0; 3],
+            focal_length: 4.0,
+            look: [0.0, 0.0, -1.0],
+            up: [0.0, 1.0, 0.0],
+            samples: 1,
+            radius: 0.0,
+            aperture_blades: 0,
+            aperture_rotation: 0.0,
+            adaptive: true,
+            sampler: Sampler::Stratified,
+        }
+    }
+}
+
+impl CameraParams {
+    /// Distance of the plane in focus from the lens: f·N / (N − f).
+    pub fn focus_depth(&self) -> f64 {
+        self.focal_length * self.image_distance / (self.image_distance - self.focal_length)
+    }
+
+    /// The focal length that puts the plane in focus at distance `d > 0` with
+    /// the image distance N kept (thin lens: 1/f = 1/N + 1/d), so the framing
+    /// stays as it is: N d / (N + d), always between 0 and N.
+    pub fn focal_length_for_distance(&self, d: f64) -> f64 {
+        self.image_distance * d / (self.image_distance + d)
+    }
+
+    /// Refocuses at distance `d > 0` (`focus_distance`): sets the focal length
+    /// by [`CameraParams::focal_length_for_distance`].
+    pub fn set_focus_distance(&mut self, d: f64) {
+        self.focal_length = self.focal_length_for_distance(d);
+    }
+
+    /// The f-number f / (2a); infinite for a pinhole.
+    pub fn f_number(&self) -> f64 {
+        self.focal_length / (2.0 * self.radius)
+    }
+
+    /// Sets the lens radius from an f-number `k > 0` (`f_number`) and the
+    /// current focal length: a = f / (2k). Call it after any refocus.
+    pub fn set_f_number(&mut self, k: f64) {
+        self.radius = self.focal_length / (2.0 * k);
+    }
 }
 
 /// The camera's orthonormal basis u, v, n in `f64` (n = −look, u = up × n).
@@ -239,7 +319,7 @@ impl<S: Scalar> Camera<S> {
     }
 }
 
-/// A pixel's chief-ray direction in world space, exact (see [`crate::film`]):
+/// A pixel's chief-ray direction in world space, exact (see [`crate::number::film`]):
 /// computed once per pixel and shared by its lens samples.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct FilmPoint<S: Scalar> {

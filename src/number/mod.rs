@@ -18,11 +18,15 @@
 //! * Set-up conversions (`from_f64`) round to nearest; they run once per scene.
 //! * The Q16.16 per-ray operations use only integer instructions.
 
-use crate::film::{FilmMapDesc, FixedFilmMap, FloatFilmMap};
-use crate::wide::{
+use crate::number::film::{FilmMapDesc, FixedFilmMap, FloatFilmMap};
+use crate::number::wide::{
     bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i64, mul_u32, mul_u64, sar64, Recip,
 };
 use fixed::types::I16F16;
+
+pub mod film;
+pub(crate) mod plane;
+pub(crate) mod wide;
 
 mod sealed {
     pub trait Sealed {}
@@ -110,7 +114,7 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     type Dir: Copy + core::fmt::Debug + PartialEq + Send + Sync;
     /// A vector as a precise direction, exactly.
     fn dir_from(v: [Self; 3]) -> Self::Dir;
-    /// A camera's exact map from pixels to its rays' directions (see [`crate::film`]).
+    /// A camera's exact map from pixels to its rays' directions (see [`crate::number::film`]).
     type FilmMap: Copy + core::fmt::Debug + Send + Sync;
     /// A pixel's chief direction as the film map gives it, before the lens.
     type Film: Copy + core::fmt::Debug + PartialEq + Send + Sync;
@@ -179,11 +183,11 @@ pub struct FixedRow {
     pub(crate) shift: u32,
 }
 
-impl crate::baked::Field for FixedRow {
-    crate::baked::baked_fields!(FixedRow { m, t, shift }, check(row) {
+impl crate::bytes::Field for FixedRow {
+    crate::bytes::baked_fields!(FixedRow { m, t, shift }, check(row) {
         // The kernels' exact i64 sums need these bounds.
         if row.shift > 30 || row.m.iter().any(|x| x.unsigned_abs() > 1 << 30) || row.t.unsigned_abs() > 1 << 60 {
-            return Err(crate::baked::BakeError::OutOfRange("matrix row beyond its scale"));
+            return Err(crate::bytes::BakeError::OutOfRange("matrix row beyond its scale"));
         }
     });
 }
@@ -709,7 +713,7 @@ impl Scalar for I16F16 {
         t_min: Self,
         t_max: Self,
     ) -> Option<(Self, Self, Self)> {
-        crate::plane::plane_hit(rows, o, d, t_min, t_max)
+        crate::number::plane::plane_hit(rows, o, d, t_min, t_max)
     }
     #[inline]
     fn acc_zero() -> i64 {
@@ -952,6 +956,39 @@ impl Scalar for f32 {
             0.0
         };
         (v * 255.0 + 0.5) as u8
+    }
+}
+
+/// A number type whose renderers can be baked: [`I16F16`] and `f32`. Its
+/// matrix rows and film map have baked forms too.
+pub trait BakeScalar:
+    Scalar<Row = <Self as BakeScalar>::BakedRow, FilmMap = <Self as BakeScalar>::BakedFilmMap> + crate::bytes::Field
+{
+    /// The number type's tag in the header: 0 Q16.16, 1 f32.
+    const TAG: u8;
+    /// [`Scalar::Row`].
+    type BakedRow: crate::bytes::Field + Copy + core::fmt::Debug + Send + Sync;
+    /// [`Scalar::FilmMap`].
+    type BakedFilmMap: crate::bytes::Field + Copy + core::fmt::Debug + Send + Sync;
+    /// Whether the film map's integer kernels stay in range for this image size.
+    fn film_map_fits(map: &Self::BakedFilmMap, cols: u32, rows: u32) -> bool;
+}
+
+impl BakeScalar for I16F16 {
+    const TAG: u8 = 0;
+    type BakedRow = crate::number::FixedRow;
+    type BakedFilmMap = crate::number::film::FixedFilmMap;
+    fn film_map_fits(map: &Self::BakedFilmMap, cols: u32, rows: u32) -> bool {
+        map.fits(cols, rows)
+    }
+}
+
+impl BakeScalar for f32 {
+    const TAG: u8 = 1;
+    type BakedRow = [f32; 4];
+    type BakedFilmMap = crate::number::film::FloatFilmMap;
+    fn film_map_fits(_: &Self::BakedFilmMap, _: u32, _: u32) -> bool {
+        true
     }
 }
 

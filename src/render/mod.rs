@@ -4,17 +4,22 @@
 //! of colours, and [`render`] streams each row into the target with one
 //! `fill_contiguous` call, computing pixels as the target consumes them.
 
+use crate::camera::sampler::{PixelSamples, Sampler};
 use crate::camera::Camera;
-use crate::cull::LensCones;
-use crate::footprint::BrightFootprints;
-use crate::sampler::{PixelSamples, Sampler};
-use crate::scalar::Scalar;
+use crate::geometry::vec3::Vec3;
+use crate::number::Scalar;
+use crate::render::cull::LensCones;
+use crate::render::footprint::BrightFootprints;
 use crate::scene::Scene;
-use crate::vec3::Vec3;
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Point, Size};
 use embedded_graphics_core::pixelcolor::Rgb888;
 use embedded_graphics_core::primitives::Rectangle;
+
+pub mod cull;
+pub mod footprint;
+pub mod progressive;
+mod trace;
 
 /// A scene and a camera set up for one image size: renders pixels.
 ///
@@ -34,7 +39,7 @@ pub struct Renderer<'a, S: Scalar> {
 }
 
 /// Lens samples an adaptive pixel takes before it first asks whether it is
-/// done: one in each of 16 equal strata of the lens (see [`crate::sampler`]).
+/// done: one in each of 16 equal strata of the lens (see [`crate::camera::sampler`]).
 pub const ADAPTIVE_PILOT: u32 = 16;
 
 /// The pilot of a pixel with `samples` lens samples: the largest power of two

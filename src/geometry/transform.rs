@@ -1,8 +1,8 @@
 //! Affine transforms: exact `f64` matrices at set-up, precise [`Scalar`] rows
 //! on the per-ray path.
 
-use crate::scalar::Scalar;
-use crate::vec3::Vec3;
+use crate::geometry::vec3::Vec3;
+use crate::number::Scalar;
 
 /// A 3×4 affine matrix in `f64`, built once per scene (parser, camera).
 ///
@@ -129,8 +129,8 @@ pub struct Affine<S: Scalar> {
     rows: [S::Row; 3],
 }
 
-impl<S: crate::baked::BakeScalar> crate::baked::Field for Affine<S> {
-    crate::baked::baked_fields!(Affine { rows });
+impl<S: crate::number::BakeScalar> crate::bytes::Field for Affine<S> {
+    crate::bytes::baked_fields!(Affine { rows });
 }
 
 impl<S: Scalar> Affine<S> {

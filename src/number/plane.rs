@@ -8,8 +8,8 @@
 //! hit within range. Every product of the 30-bit rows and mantissas is exact
 //! in an i64; grazing hits far away keep their precision.
 
-use crate::scalar::{shr_round, FixedDir, FixedRow, Scalar};
-use crate::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u64};
+use crate::number::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u64};
+use crate::number::{shr_round, FixedDir, FixedRow, Scalar};
 use fixed::types::I16F16;
 
 /// Bits needed for `x` (0 for 0).
@@ -111,7 +111,7 @@ pub(crate) fn unit_mantissas(d: [i64; 3]) -> Option<[i64; 3]> {
             }
         })
     } else {
-        d.map(|x| crate::scalar::div_round_i64(x << 30, l as i64))
+        d.map(|x| crate::number::div_round_i64(x << 30, l as i64))
     })
 }
 

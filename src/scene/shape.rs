@@ -7,8 +7,8 @@
 //! product then stays small, which is what keeps Q16.16 accurate and in range.
 //! The plane is unbounded and takes any ray.
 
-use crate::scalar::Scalar;
-use crate::vec3::Vec3;
+use crate::geometry::vec3::Vec3;
+use crate::number::Scalar;
 
 /// A shape of the scene format, in its object space.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -278,6 +278,33 @@ fn cone<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHi
     nearer(best, cap(o, d, S::ONE.neg(), t_min, t_max))
 }
 
+impl crate::bytes::Field for Shape {
+    fn put(&self, w: &mut crate::bytes::Writer<'_>) {
+        let tag: u8 = match self {
+            Shape::Sphere => 0,
+            Shape::Plane => 1,
+            Shape::Cube => 2,
+            Shape::Cylinder => 3,
+            Shape::Cone => 4,
+        };
+        tag.put(w);
+    }
+    fn take(&mut self, r: &mut crate::bytes::Reader<'_>) -> Result<(), crate::bytes::BakeError> {
+        *self = match r.array::<1>()?[0] {
+            0 => Shape::Sphere,
+            1 => Shape::Plane,
+            2 => Shape::Cube,
+            3 => Shape::Cylinder,
+            4 => Shape::Cone,
+            _ => return Err(crate::bytes::BakeError::OutOfRange("unknown shape")),
+        };
+        Ok(())
+    }
+    fn blank() -> Self {
+        Shape::Sphere
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -291,8 +318,18 @@ mod tests {
     fn hit_both(shape: Shape, o: [f64; 3], d: [f64; 3]) -> Option<(f64, [f64; 3], [f64; 3])> {
         let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         let d = if shape == Shape::Plane { d } else { d.map(|x| x / len) };
-        let hf = shape.intersect::<f32>(v(o[0], o[1], o[2]), v(d[0], d[1], d[2]), <f32 as Scalar>::HIT_EPSILON, f32::MAX);
-        let hx = shape.intersect::<I16F16>(v(o[0], o[1], o[2]), v(d[0], d[1], d[2]), I16F16::HIT_EPSILON, I16F16::MAX);
+        let hf = shape.intersect::<f32>(
+            v(o[0], o[1], o[2]),
+            v(d[0], d[1], d[2]),
+            <f32 as Scalar>::HIT_EPSILON,
+            f32::MAX,
+        );
+        let hx = shape.intersect::<I16F16>(
+            v(o[0], o[1], o[2]),
+            v(d[0], d[1], d[2]),
+            I16F16::HIT_EPSILON,
+            I16F16::MAX,
+        );
         assert_eq!(
             hf.is_some(),
             hx.is_some(),

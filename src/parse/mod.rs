@@ -7,13 +7,14 @@
 
 use core::fmt;
 
-use crate::sampler::Sampler;
-use crate::scalar::Scalar;
+use crate::camera::sampler::Sampler;
+use crate::camera::{self, aperture};
+use crate::geometry::transform::Mat34;
+use crate::geometry::vec3::Vec3;
+use crate::number::Scalar;
+use crate::scene::autofocus;
+use crate::scene::shape::Shape;
 use crate::scene::{Light, Object, ObjectDesc, Scene, DEFAULT_MATERIAL, MATERIALS, MAX_LIGHTS, MAX_OBJECTS};
-use crate::shape::Shape;
-use crate::transform::Mat34;
-use crate::vec3::Vec3;
-use crate::{aperture, autofocus, camera};
 
 /// Magnitudes a real value must stay below: the range of Q16.16.
 pub const REAL_LIMIT: f64 = 32768.0;
