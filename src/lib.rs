@@ -98,6 +98,8 @@ pub use render::{cull, footprint, progressive};
 pub use scene::{autofocus, shape};
 
 #[cfg(test)]
+mod layout_tests;
+#[cfg(test)]
 mod range_tests;
 #[cfg(test)]
 mod tests;

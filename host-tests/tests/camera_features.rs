@@ -159,7 +159,10 @@ fn object_box(scene: &Scene<I16F16>, w: u32, h: u32, i: usize) -> PixelBox {
         &Image::filled(w, h, embedded_graphics::pixelcolor::Rgb888::BLACK),
         |x, y| {
             let ray = r.camera().chief_ray_from(&r.camera().film_point(x, y));
-            scene.closest_hit(ray.origin, ray.dir, I16F16::HIT_EPSILON).map(|(k, _)| k) == Some(i)
+            scene
+                .closest_hit(ray.origin, ray.dir, I16F16::HIT_EPSILON)
+                .map(|(k, _)| k)
+                == Some(i)
         },
     )
     .unwrap();
