@@ -922,18 +922,7 @@ impl Scalar for f32 {
         t_min: Self,
         t_max: Self,
     ) -> Option<(Self, Self, Self)> {
-        let ld = rows.map(|r| Self::row_apply(&r, d, false));
-        if ld[2] == 0.0 {
-            return None;
-        }
-        let lo = rows.map(|r| Self::row_apply(&r, o, true));
-        // s in units of ld, t in world units.
-        let s = -lo[2] / ld[2];
-        let t = s * Self::length3(d);
-        if !(t > t_min && t < t_max) {
-            return None;
-        }
-        Some((t, lo[0] + ld[0] * s, lo[1] + ld[1] * s))
+        crate::number::plane::plane_hit_f32(rows, o, d, t_min, t_max)
     }
     #[inline]
     fn acc_zero() -> f64 {

@@ -164,3 +164,26 @@ pub(crate) fn plane_hit(
     };
     Some((q16(t), along(0), along(1)))
 }
+
+/// [`plane_hit`] in `f32`: the same plane through the same rows, with `d` of
+/// any length.
+pub(crate) fn plane_hit_f32(
+    rows: &[[f32; 4]; 3],
+    o: [f32; 3],
+    d: [f32; 3],
+    t_min: f32,
+    t_max: f32,
+) -> Option<(f32, f32, f32)> {
+    let ld = rows.map(|r| <f32 as Scalar>::row_apply(&r, d, false));
+    if ld[2] == 0.0 {
+        return None;
+    }
+    let lo = rows.map(|r| <f32 as Scalar>::row_apply(&r, o, true));
+    // s in units of ld, t in world units.
+    let s = -lo[2] / ld[2];
+    let t = s * <f32 as Scalar>::length3(d);
+    if !(t > t_min && t < t_max) {
+        return None;
+    }
+    Some((t, lo[0] + ld[0] * s, lo[1] + ld[1] * s))
+}

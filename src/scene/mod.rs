@@ -237,7 +237,7 @@ impl<S: Scalar> Object<S> {
     /// As [`Object::intersect`], with `precise` the ray's direction held more
     /// precisely (any length; see [`Scalar::Dir`]), which the plane uses.
     pub fn intersect_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, t_min: S, t_max: S) -> Option<Hit<S>> {
-        let Some((center, radius)) = self.bound else {
+        if self.shape == Shape::Plane {
             // Unbounded plane: from the ray's own origin, with the precise
             // direction (a grazing hit 100 away moves by 100² times its error).
             let (t, x, y) = self.to_object.plane_hit(o, precise, t_min, t_max)?;
@@ -247,7 +247,9 @@ impl<S: Scalar> Object<S> {
                 n: Vec3::new(S::ZERO, S::ZERO, S::ONE),
             };
             return Some(Hit { t, local });
-        };
+        }
+        // Every other shape has a bounding sphere (checked when it is made).
+        let (center, radius) = self.bound?;
         // Cheap reject against the world bounding sphere.
         let oc = center - o;
         let tc = oc.dot(d);
