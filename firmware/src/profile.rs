@@ -19,6 +19,7 @@
 //! the mean over many calls is unbiased to a few instructions.
 
 use core::fmt::Write;
+use lensray::camera::CameraSample;
 use lensray::lfsr::Lfsr;
 use lensray::scene::MAX_LIGHTS;
 use lensray::{Renderer, Scalar, Scene, Shape};
@@ -111,11 +112,21 @@ pub fn run<S: Scalar>(
                 let mut lfsr = Lfsr::for_pixel(col, row, 0);
                 for _ in 0..rays {
                     let (ray, t) = if cam.is_pinhole() {
-                        time(counter, ov, || cam.chief_ray_from(&film))
+                        time(counter, ov, || {
+                            cam.generate_ray(&CameraSample {
+                                film: &film,
+                                lens: None,
+                            })
+                        })
                     } else {
                         let (lens, ts) = time(counter, ov, || cam.lens_sample(&mut lfsr));
                         st.sample.add(ts);
-                        time(counter, ov, || cam.lens_ray_from(&film, lens))
+                        time(counter, ov, || {
+                            cam.generate_ray(&CameraSample {
+                                film: &film,
+                                lens: Some(lens),
+                            })
+                        })
                     };
                     st.ray.add(t);
                     let (o, d, precise) = (ray.origin, ray.dir, ray.precise);
@@ -175,9 +186,15 @@ pub fn run<S: Scalar>(
                 let mut lfsr = Lfsr::for_pixel(col, row, 0);
                 for _ in 0..renderer.rays_per_pixel() {
                     let ray = if cam.is_pinhole() {
-                        cam.chief_ray_from(&film)
+                        cam.generate_ray(&CameraSample {
+                            film: &film,
+                            lens: None,
+                        })
                     } else {
-                        cam.lens_ray_from(&film, cam.lens_sample(&mut lfsr))
+                        cam.generate_ray(&CameraSample {
+                            film: &film,
+                            lens: Some(cam.lens_sample(&mut lfsr)),
+                        })
                     };
                     let (_, t) = time(counter, ov, || scene.trace_camera_ray(&ray, renderer.cones()));
                     sum += t;

@@ -252,7 +252,7 @@ impl<S: Scalar> Camera<S> {
     }
 
     /// The next lens point (Q1.15, within the unit circle) from a pixel's
-    /// register, uniform on the aperture: integers only, as [`Camera::lens_ray_from`] takes it.
+    /// register, uniform on the aperture: integers only, as [`CameraSample::lens`] takes it.
     #[inline]
     pub fn lens_sample(&self, lfsr: &mut Lfsr) -> (i32, i32) {
         self.aperture.sample(lfsr)
@@ -281,7 +281,7 @@ impl<S: Scalar> Camera<S> {
     }
 
     /// The world direction of pixel (`col`, `row`)'s chief ray, exactly:
-    /// what [`Camera::chief_ray_from`] and [`Camera::lens_ray_from`] take.
+    /// what [`CameraSample::film`] takes.
     #[inline]
     pub fn film_point(&self, col: u32, row: u32) -> FilmPoint<S> {
         let (i, j) = Self::doubled(col, row);
@@ -290,10 +290,21 @@ impl<S: Scalar> Camera<S> {
         }
     }
 
+    /// The camera's one ray-making entry: the ray of `sample`, whose lens
+    /// point was drawn outside (by the renderer's sampler), so the camera
+    /// holds no random state.
+    #[inline]
+    pub fn generate_ray(&self, sample: &CameraSample<'_, S>) -> Ray<S> {
+        match sample.lens {
+            None => self.chief_ray_from(sample.film),
+            Some(lens) => self.lens_ray_from(sample.film, lens),
+        }
+    }
+
     /// The chief ray of a pixel: from the lens centre E through its film point
     /// (`−N n + u_c u + v_r v`), normalised.
     #[inline]
-    pub fn chief_ray_from(&self, f: &FilmPoint<S>) -> Ray<S> {
+    fn chief_ray_from(&self, f: &FilmPoint<S>) -> Ray<S> {
         // The lens centre adds nothing: sample (0, 0).
         let (precise, dir) = S::film_ray_dir(&self.map, &f.film, (0, 0));
         Ray {
@@ -306,7 +317,7 @@ impl<S: Scalar> Camera<S> {
     /// The ray from the lens point `lens = (s_x, s_y)` (Q1.15, on the unit disk)
     /// towards the pixel's point in focus.
     #[inline]
-    pub fn lens_ray_from(&self, f: &FilmPoint<S>, lens: (i32, i32)) -> Ray<S> {
+    fn lens_ray_from(&self, f: &FilmPoint<S>, lens: (i32, i32)) -> Ray<S> {
         let (sx, sy) = (S::from_q15(lens.0), S::from_q15(lens.1));
         // p_focus − p_lens, divided by m: p_film − p_lens / m, in world space.
         let (precise, dir) = S::film_ray_dir(&self.map, &f.film, lens);
@@ -317,6 +328,18 @@ impl<S: Scalar> Camera<S> {
             precise,
         }
     }
+}
+
+/// What one camera ray is made from: a pixel's film point and where on the
+/// lens the ray leaves.
+#[derive(Copy, Clone, Debug)]
+pub struct CameraSample<'a, S: Scalar> {
+    /// The pixel's film point ([`Camera::film_point`]), shared by its rays.
+    pub film: &'a FilmPoint<S>,
+    /// The lens point `(s_x, s_y)` (Q1.15, on the unit disk; see
+    /// [`Camera::lens_sample`]), or `None` for the chief ray through the lens
+    /// centre (a pinhole's only ray).
+    pub lens: Option<(i32, i32)>,
 }
 
 /// A pixel's chief-ray direction in world space, exact (see [`crate::number::film`]):
@@ -336,7 +359,10 @@ mod tests {
         let params = CameraParams::default();
         // An odd size has a pixel whose centre is the film's centre.
         let cam = Camera::<I16F16>::new(&params, 641, 481);
-        let ray = cam.chief_ray_from(&cam.film_point(320, 240));
+        let ray = cam.generate_ray(&CameraSample {
+            film: &cam.film_point(320, 240),
+            lens: None,
+        });
         let d = ray.dir.to_f64();
         assert!(
             d[0].abs() < 1e-4 && d[1].abs() < 1e-4 && (d[2] + 1.0).abs() < 1e-4,
@@ -356,7 +382,13 @@ mod tests {
         assert!((f[1] - (p * 240.0 - p / 2.0)).abs() < 1e-6);
         assert_eq!(f[2], -8.0);
         // The picture is upright: row 0 looks up, column 0 looks left.
-        let d = cam.chief_ray_from(&cam.film_point(0, 0)).dir.to_f64();
+        let d = cam
+            .generate_ray(&CameraSample {
+                film: &cam.film_point(0, 0),
+                lens: None,
+            })
+            .dir
+            .to_f64();
         assert!(d[0] < 0.0 && d[1] > 0.0);
     }
 
@@ -370,7 +402,10 @@ mod tests {
         assert_eq!(params.focus_depth(), 8.0);
         let cam = Camera::<I16F16>::new(&params, 160, 120);
         let film = cam.film_point(30, 100);
-        let chief = cam.chief_ray_from(&film);
+        let chief = cam.generate_ray(&CameraSample {
+            film: &film,
+            lens: None,
+        });
         // Where the chief ray reaches z = −8.
         let at_focus = |r: Ray<I16F16>| {
             let (o, d) = (r.origin.to_f64(), r.dir.to_f64());
@@ -379,7 +414,10 @@ mod tests {
         };
         let target = at_focus(chief);
         for lens in [(32767, 0), (-20000, 20000), (0, -32000), (1000, 2000)] {
-            let r = cam.lens_ray_from(&film, lens);
+            let r = cam.generate_ray(&CameraSample {
+                film: &film,
+                lens: Some(lens),
+            });
             let o = r.origin.to_f64();
             assert!((o[0] * o[0] + o[1] * o[1]).sqrt() <= 0.4 + 1e-4);
             let hit = at_focus(r);
@@ -389,7 +427,10 @@ mod tests {
             );
         }
         // And they do not meet at another depth: at z = −4 they spread out.
-        let r = cam.lens_ray_from(&film, (32767, 0));
+        let r = cam.generate_ray(&CameraSample {
+            film: &film,
+            lens: Some((32767, 0)),
+        });
         let (o, d) = (r.origin.to_f64(), r.dir.to_f64());
         let t = (-4.0 - o[2]) / d[2];
         let (c, cd) = (chief.origin.to_f64(), chief.dir.to_f64());

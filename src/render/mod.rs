@@ -5,7 +5,7 @@
 //! `fill_contiguous` call, computing pixels as the target consumes them.
 
 use crate::camera::sampler::{PixelSamples, Sampler};
-use crate::camera::Camera;
+use crate::camera::{Camera, CameraSample};
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
 use crate::render::cull::LensCones;
@@ -235,7 +235,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
         let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
-            let ray = self.camera.chief_ray_from(&film);
+            let ray = self.camera.generate_ray(&CameraSample {
+                film: &film,
+                lens: None,
+            });
             return (self.scene.trace_camera_ray(&ray, &self.cones), 1);
         }
         // The pixel's own samples: independent of row order and threads.
@@ -252,7 +255,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         };
         let mut n = 0;
         while n < self.samples {
-            let ray = self.camera.lens_ray_from(&film, lens.next(self.camera.aperture()));
+            let ray = self.camera.generate_ray(&CameraSample {
+                film: &film,
+                lens: Some(lens.next(self.camera.aperture())),
+            });
             let c = self.scene.trace_camera_ray(&ray, &self.cones);
             acc = [
                 S::acc_add(acc[0], c.x),
