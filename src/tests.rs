@@ -235,7 +235,7 @@ fn pinhole_ignores_the_sample_count_and_lens_blurs() {
 
 #[test]
 fn fixed_levels_by_one_multiply_are_exact() {
-    use crate::Scalar;
+    use crate::number::Kernels;
     use fixed::types::I16F16;
     for bits in (-70_000i32..20_000_000)
         .step_by(97)

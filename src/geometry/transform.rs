@@ -164,7 +164,7 @@ impl<S: Scalar> Affine<S> {
     }
 
     /// Transforms a direction to a unit vector, with the transformed length
-    /// and its reciprocal, at full precision (see [`Scalar::rows_apply_unit`]).
+    /// and its reciprocal, at full precision (see `Kernels::rows_apply_unit`).
     #[inline]
     pub fn vector_unit(&self, v: Vec3<S>) -> (Vec3<S>, S, S) {
         let (u, len, inv) = S::rows_apply_unit(&self.rows, v.to_array());
@@ -172,7 +172,7 @@ impl<S: Scalar> Affine<S> {
     }
 
     /// Where the world ray `o + t d` meets this object's plane z = 0 (see
-    /// [`Scalar::plane_hit`]), for `t_min < t < t_max`.
+    /// `Kernels::plane_hit`), for `t_min < t < t_max`.
     #[inline]
     pub fn plane_hit(&self, o: Vec3<S>, d: S::Dir, t_min: S, t_max: S) -> Option<(S, S, S)> {
         S::plane_hit(&self.rows, o.to_array(), d, t_min, t_max)

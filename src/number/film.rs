@@ -209,7 +209,7 @@ impl FloatFilmMap {
             let (sx, sy) = (lens.0 as f32 / 32768.0, lens.1 as f32 / 32768.0);
             [0, 1, 2].map(|k| film[k] - sx * self.k_u[k] - sy * self.k_v[k])
         };
-        <f32 as crate::number::Scalar>::normalize3(d).0
+        <f32 as crate::number::Kernels>::normalize3(d).0
     }
 }
 

@@ -235,7 +235,7 @@ impl<S: Scalar> Object<S> {
     }
 
     /// As [`Object::intersect`], with `precise` the ray's direction held more
-    /// precisely (any length; see [`Scalar::Dir`]), which the plane uses.
+    /// precisely (any length; see `Kernels::Dir`), which the plane uses.
     pub fn intersect_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, t_min: S, t_max: S) -> Option<Hit<S>> {
         if self.shape == Shape::Plane {
             // Unbounded plane: from the ray's own origin, with the precise
@@ -276,7 +276,7 @@ impl<S: Scalar> Object<S> {
         let lo = self.to_object.point(o + d * t_off);
         let lt_min = to_local(t_min.sub(t_off));
         let lt_max = to_local(t_max.sub(t_off));
-        let h = self.shape.intersect(lo, ld, lt_min, lt_max)?;
+        let h = self.shape.intersect_bounded(lo, ld, lt_min, lt_max)?;
         let t = t_off.add(to_world(h.t));
         if t <= t_min || t >= t_max {
             return None;

@@ -75,8 +75,24 @@ impl Shape {
     /// the module docs); the plane takes any `o`.
     pub fn intersect<S: Scalar>(self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
         match self {
-            Shape::Sphere => sphere(o, d, t_min, t_max),
             Shape::Plane => plane(o, d, t_min, t_max),
+            _ => self.intersect_bounded(o, d, t_min, t_max),
+        }
+    }
+
+    /// [`Shape::intersect`] for the bounded shapes, `None` for the plane: what
+    /// an object past its bounding sphere calls (it meets planes through their
+    /// world rows), so the renderer carries no second way into the plane.
+    pub(crate) fn intersect_bounded<S: Scalar>(
+        self,
+        o: Vec3<S>,
+        d: Vec3<S>,
+        t_min: S,
+        t_max: S,
+    ) -> Option<LocalHit<S>> {
+        match self {
+            Shape::Sphere => sphere(o, d, t_min, t_max),
+            Shape::Plane => None,
             Shape::Cube => cube(o, d, t_min, t_max),
             Shape::Cylinder => cylinder(o, d, t_min, t_max),
             Shape::Cone => cone(o, d, t_min, t_max),
@@ -115,7 +131,7 @@ fn sphere<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<Local
 }
 
 /// The plane z = 0 through the number type's one plane intersection
-/// ([`Scalar::plane_hit`], which rendering reaches through the object's rows),
+/// (`Kernels::plane_hit`, which rendering reaches through the object's rows),
 /// here with identity rows.
 fn plane<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
     let rows = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]].map(S::row_from_f64);
