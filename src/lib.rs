@@ -45,6 +45,12 @@
 //!
 //! ## Modules
 //!
+//! The items at the crate root ([`Scene`], [`render()`], [`render_with`],
+//! [`Renderer`], [`ParseError`], [`Scalar`], [`I16F16`], [`Vec3`], [`Shape`],
+//! [`baked`]'s loader) are the API a firmware or the CLI calls. The modules
+//! below also open their parts to the host tests, the firmware's profiler and
+//! the tools: those paths are unstable and may change.
+//!
 //! Each uses only those before it (a host test checks that `src/` has no
 //! import cycle):
 //!

@@ -135,7 +135,7 @@ pub fn run<S: Scalar>(
                     // then, if the ray can reach it, the intersection limited by the
                     // nearest hit so far.
                     let mut best: Option<(usize, lensray::scene::Hit<S>)> = None;
-                    for (i, obj) in scene.objects.iter().enumerate() {
+                    for (i, obj) in scene.objects().iter().enumerate() {
                         let (reach, t) = time(counter, ov, || cones.may_reach(i, d));
                         st.cone.add(t);
                         if !reach {
@@ -154,7 +154,7 @@ pub fn run<S: Scalar>(
                         }
                     }
                     if let Some((i, h)) = best {
-                        let (_, t) = time(counter, ov, || scene.objects[i].normal(&h, d));
+                        let (_, t) = time(counter, ov, || scene.objects()[i].normal(&h, d));
                         st.normal.add(t);
                     }
                     let (_, t) = time(counter, ov, || scene.closest_hit_camera_ray(&ray, cones));
@@ -169,11 +169,11 @@ pub fn run<S: Scalar>(
         }
     }
     // Trace cost with k lights, k = all .. 0 (lights removed from the end).
-    let lights = scene.lights.len();
+    let lights = scene.lights().len();
     let mut with_lights = [0u64; MAX_LIGHTS + 1];
     with_lights[lights] = st.trace.ticks;
     for k in (0..lights).rev() {
-        scene.lights.truncate(k);
+        scene.truncate_lights(k);
         let mut renderer = Renderer::new(scene, cols, rows);
         if let Some(n) = samples {
             renderer = renderer.with_samples(n);

@@ -265,8 +265,8 @@ fn check_equivalents(bytes: &[u8], parsed: &Result<Scene<I16F16>, ParseError>) -
     let summary = |r: &Result<Scene<I16F16>, ParseError>| match r {
         Ok(s) => Ok((
             s.camera,
-            s.objects.len(),
-            s.lights.len(),
+            s.objects().len(),
+            s.lights().len(),
             s.ambient,
             s.background,
             s.shadows,

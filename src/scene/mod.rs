@@ -373,10 +373,27 @@ pub struct Scene<S: Scalar> {
     pub background: Vec3<S>,
     /// Whether shadow rays are cast.
     pub shadows: bool,
-    /// The objects, in file order.
-    pub objects: heapless::Vec<Object<S>, MAX_OBJECTS>,
-    /// The point lights, in file order.
-    pub lights: heapless::Vec<Light<S>, MAX_LIGHTS>,
+    /// The objects, in file order (see [`Scene::objects`]).
+    pub(crate) objects: heapless::Vec<Object<S>, MAX_OBJECTS>,
+    /// The point lights, in file order (see [`Scene::lights`]).
+    pub(crate) lights: heapless::Vec<Light<S>, MAX_LIGHTS>,
+}
+
+impl<S: Scalar> Scene<S> {
+    /// The objects, in file order (at most [`MAX_OBJECTS`]).
+    pub fn objects(&self) -> &[Object<S>] {
+        &self.objects
+    }
+
+    /// The point lights, in file order (at most [`MAX_LIGHTS`]).
+    pub fn lights(&self) -> &[Light<S>] {
+        &self.lights
+    }
+
+    /// Keeps only the first `n` lights (a profile measures the cost of each).
+    pub fn truncate_lights(&mut self, n: usize) {
+        self.lights.truncate(n);
+    }
 }
 
 impl<S: Scalar> Default for Scene<S> {

@@ -309,7 +309,7 @@ pub extern "C" fn lr_camera(what: u32) -> f64 {
             4 => c.aperture_rotation,
             5 => c.samples as f64,
             6 => c.aspect_ratio,
-            7 => sc.objects.len() as f64,
+            7 => sc.objects().len() as f64,
             _ => f64::NAN,
         }
     })
