@@ -459,7 +459,7 @@ impl<S: Scalar> Scene<S> {
     /// ```
     /// use lensray::{Scene, I16F16};
     /// let scene = Scene::<I16F16>::parse("object sphere gold\ntranslate 0 0 -5\n").unwrap();
-    /// assert_eq!(scene.objects.len(), 1);
+    /// assert_eq!(scene.objects().len(), 1);
     /// let err = Scene::<I16F16>::parse("width 10\nligth_position 1 2 3\n").unwrap_err();
     /// assert_eq!(err.to_string(), "line 2: unknown keyword \"ligth_position\"");
     /// ```
