@@ -45,43 +45,66 @@
 //!
 //! ## Modules
 //!
-//! [`scalar`] (the number trait), [`vec3`], [`transform`], [`lfsr`],
-//! [`aperture`], [`camera`], [`film`] (a pixel's exact ray directions),
-//! [`cull`] (which objects a lens ray can reach), [`footprint`] (where bright objects' bokeh can fall), [`autofocus`],
-//! [`sampler`] (independent or stratified lens points), [`progressive`], [`shape`], [`scene`], [`parse`], [`mod@render`],
-//! [`baked`] (a renderer set up on the host, as checked bytes for flash).
+//! The items at the crate root ([`Scene`], [`render()`], [`render_with`],
+//! [`Renderer`], [`ParseError`], [`Scalar`], [`I16F16`], [`Vec3`], [`Shape`],
+//! [`baked`]'s loader) are the API a firmware or the CLI calls. The modules
+//! below also open their parts to the host tests, the firmware's profiler and
+//! the tools: those paths are unstable and may change.
+//!
+//! Each uses only those before it (a host test checks that `src/` has no
+//! import cycle):
+//!
+//! * [`bytes`]: the checked byte form of every baked value;
+//! * [`number`]: the number trait [`Scalar`], its Q16.16 and `f32`
+//!   implementations and their exact kernels (wide integers, the film map,
+//!   the plane);
+//! * [`geometry`]: vectors, affine transforms, rays;
+//! * [`camera`]: the camera statements, the lens (aperture, LFSR, lens
+//!   sampler) and the one ray-making entry;
+//! * [`scene`]: the scene data, shapes and autofocus;
+//! * [`parse`]: the scene format;
+//! * [`mod@render`]: tracing, culling, bright footprints, progressive
+//!   rendering;
+//! * [`baked`]: a renderer set up on the host, as checked bytes for flash.
 
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
 
-pub mod aperture;
-pub mod autofocus;
+// Dependencies point one way, each layer using only the ones above it:
+// bytes, number, geometry, camera, scene, parse, render, baked.
 pub mod baked;
+pub mod bytes;
 pub mod camera;
-pub mod cull;
-pub mod film;
-pub mod footprint;
-pub mod lfsr;
+pub mod geometry;
+pub mod number;
 pub mod parse;
-mod plane;
-pub mod progressive;
 pub mod render;
-pub mod sampler;
-pub mod scalar;
 pub mod scene;
-pub mod shape;
-pub mod transform;
-pub mod vec3;
-mod wide;
 
 pub use fixed::types::I16F16;
+pub use geometry::vec3::Vec3;
+pub use number::Scalar;
 pub use parse::{ErrorKind, ParseError};
 pub use render::{render, render_with, Renderer};
-pub use scalar::Scalar;
+pub use scene::shape::Shape;
 pub use scene::{Scene, MAX_LIGHTS, MAX_OBJECTS};
-pub use shape::Shape;
-pub use vec3::Vec3;
 
+// The modules' former paths, kept for the host tests and tools: unstable.
+#[doc(hidden)]
+pub use camera::{aperture, lfsr, sampler};
+#[doc(hidden)]
+pub use geometry::{transform, vec3};
+#[doc(hidden)]
+pub use number as scalar;
+#[doc(hidden)]
+pub use number::film;
+#[doc(hidden)]
+pub use render::{cull, footprint, progressive};
+#[doc(hidden)]
+pub use scene::{autofocus, shape};
+
+#[cfg(test)]
+mod layout_tests;
 #[cfg(test)]
 mod range_tests;
 #[cfg(test)]

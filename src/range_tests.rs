@@ -15,7 +15,7 @@ const D: f64 = 2500.0;
 fn hit<Sc: Scalar>(text: &str, o: [f64; 3], d: [f64; 3]) -> Option<(f64, [f64; 3])> {
     let scene = Scene::<Sc>::parse(text).unwrap_or_else(|e| panic!("{e}"));
     let (o, d) = (Vec3::<Sc>::from_f64(o), Vec3::<Sc>::from_f64(d));
-    let (_, h) = scene.closest_hit(o, d, Sc::EPSILON)?;
+    let (_, h) = scene.closest_hit(o, d, Sc::HIT_EPSILON)?;
     let p = (o + d * h.t).to_f64();
     Some((h.t.to_f64(), p))
 }

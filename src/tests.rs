@@ -201,13 +201,15 @@ fn background_and_checkerboard() {
     // A plane facing the camera with squares of side 1: neighbouring squares
     // differ by the quarter factor on Ka and Kd.
     let text = "width 8\nimage_distance 8\nambient_light 1 1 1\nobject plane\nKa 0.8 0.8 0.8\nKd 0 0 0\ntexture 1\ntranslate 0 0 -8\n";
-    for px in [
-        Renderer::new(&Scene::<I16F16>::parse(text).unwrap(), 8, 8),
-        // Same again in f32: the image must agree exactly here.
-    ]
-    .iter()
-    .map(|r| [r.pixel(0, 0), r.pixel(1, 0), r.pixel(0, 1), r.pixel(1, 1)])
-    {
+    fn corner<S: Scalar>(text: &str) -> [Rgb888; 4] {
+        let scene = Scene::<S>::parse(text).unwrap();
+        let r = Renderer::new(&scene, 8, 8);
+        [r.pixel(0, 0), r.pixel(1, 0), r.pixel(0, 1), r.pixel(1, 1)]
+    }
+    let fixed = corner::<I16F16>(text);
+    // Same again in f32: the image must agree exactly here.
+    let float = corner::<f32>(text);
+    for px in [fixed, float] {
         // Pixel (0,0) is at film (-3.5, 3.5): square (-4, 3), sum -1: odd, dark.
         assert_eq!(px[0], Rgb888::new(51, 51, 51));
         assert_eq!(px[1], Rgb888::new(204, 204, 204));
@@ -233,7 +235,7 @@ fn pinhole_ignores_the_sample_count_and_lens_blurs() {
 
 #[test]
 fn fixed_levels_by_one_multiply_are_exact() {
-    use crate::Scalar;
+    use crate::number::Kernels;
     use fixed::types::I16F16;
     for bits in (-70_000i32..20_000_000)
         .step_by(97)
@@ -244,4 +246,12 @@ fn fixed_levels_by_one_multiply_are_exact() {
         let exact = ((bits as i64 * 255) >> 16).clamp(0, 65535) as u32;
         assert_eq!(x.to_level(), exact, "bits {bits}");
     }
+}
+
+#[test]
+fn parse_and_bake_errors_are_core_errors() {
+    let parse: std::boxed::Box<dyn core::error::Error> = Scene::<I16F16>::parse("object teapot\n").unwrap_err().into();
+    assert!(parse.to_string().starts_with("line 1: "), "{parse}");
+    let bake: std::boxed::Box<dyn core::error::Error> = crate::bytes::BakeError::ForeignMagic.into();
+    assert!(bake.to_string().contains("LRBK"), "{bake}");
 }

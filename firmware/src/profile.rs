@@ -19,6 +19,7 @@
 //! the mean over many calls is unbiased to a few instructions.
 
 use core::fmt::Write;
+use lensray::camera::CameraSample;
 use lensray::lfsr::Lfsr;
 use lensray::scene::MAX_LIGHTS;
 use lensray::{Renderer, Scalar, Scene, Shape};
@@ -111,11 +112,21 @@ pub fn run<S: Scalar>(
                 let mut lfsr = Lfsr::for_pixel(col, row, 0);
                 for _ in 0..rays {
                     let (ray, t) = if cam.is_pinhole() {
-                        time(counter, ov, || cam.chief_ray_from(&film))
+                        time(counter, ov, || {
+                            cam.generate_ray(&CameraSample {
+                                film: &film,
+                                lens: None,
+                            })
+                        })
                     } else {
                         let (lens, ts) = time(counter, ov, || cam.lens_sample(&mut lfsr));
                         st.sample.add(ts);
-                        time(counter, ov, || cam.lens_ray_from(&film, lens))
+                        time(counter, ov, || {
+                            cam.generate_ray(&CameraSample {
+                                film: &film,
+                                lens: Some(lens),
+                            })
+                        })
                     };
                     st.ray.add(t);
                     let (o, d, precise) = (ray.origin, ray.dir, ray.precise);
@@ -124,7 +135,7 @@ pub fn run<S: Scalar>(
                     // then, if the ray can reach it, the intersection limited by the
                     // nearest hit so far.
                     let mut best: Option<(usize, lensray::scene::Hit<S>)> = None;
-                    for (i, obj) in scene.objects.iter().enumerate() {
+                    for (i, obj) in scene.objects().iter().enumerate() {
                         let (reach, t) = time(counter, ov, || cones.may_reach(i, d));
                         st.cone.add(t);
                         if !reach {
@@ -132,7 +143,7 @@ pub fn run<S: Scalar>(
                             continue;
                         }
                         let t_max = best.map_or(S::MAX, |(_, h)| h.t);
-                        let (h, t) = time(counter, ov, || obj.intersect_dir(o, d, precise, S::EPSILON, t_max));
+                        let (h, t) = time(counter, ov, || obj.intersect_dir(o, d, precise, S::HIT_EPSILON, t_max));
                         let k = shape_index(obj.shape);
                         match h {
                             Some(h) => {
@@ -143,7 +154,7 @@ pub fn run<S: Scalar>(
                         }
                     }
                     if let Some((i, h)) = best {
-                        let (_, t) = time(counter, ov, || scene.objects[i].normal(&h, d));
+                        let (_, t) = time(counter, ov, || scene.objects()[i].normal(&h, d));
                         st.normal.add(t);
                     }
                     let (_, t) = time(counter, ov, || scene.closest_hit_camera_ray(&ray, cones));
@@ -158,11 +169,11 @@ pub fn run<S: Scalar>(
         }
     }
     // Trace cost with k lights, k = all .. 0 (lights removed from the end).
-    let lights = scene.lights.len();
+    let lights = scene.lights().len();
     let mut with_lights = [0u64; MAX_LIGHTS + 1];
     with_lights[lights] = st.trace.ticks;
     for k in (0..lights).rev() {
-        scene.lights.truncate(k);
+        scene.truncate_lights(k);
         let mut renderer = Renderer::new(scene, cols, rows);
         if let Some(n) = samples {
             renderer = renderer.with_samples(n);
@@ -175,9 +186,15 @@ pub fn run<S: Scalar>(
                 let mut lfsr = Lfsr::for_pixel(col, row, 0);
                 for _ in 0..renderer.rays_per_pixel() {
                     let ray = if cam.is_pinhole() {
-                        cam.chief_ray_from(&film)
+                        cam.generate_ray(&CameraSample {
+                            film: &film,
+                            lens: None,
+                        })
                     } else {
-                        cam.lens_ray_from(&film, cam.lens_sample(&mut lfsr))
+                        cam.generate_ray(&CameraSample {
+                            film: &film,
+                            lens: Some(cam.lens_sample(&mut lfsr)),
+                        })
                     };
                     let (_, t) = time(counter, ov, || scene.trace_camera_ray(&ray, renderer.cones()));
                     sum += t;

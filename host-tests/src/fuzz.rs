@@ -20,7 +20,7 @@ use embedded_graphics::geometry::{Dimensions, Point, Size};
 use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
-use lensray::parse::KEYWORDS;
+use lensray::parse::{Keyword, Section, KEYWORDS};
 use lensray::{render_with, ErrorKind, ParseError, Renderer, Scalar, Scene, I16F16};
 
 /// Image size of the tiny renders: 8 × 6 pixels, 2 lens samples each.
@@ -265,8 +265,8 @@ fn check_equivalents(bytes: &[u8], parsed: &Result<Scene<I16F16>, ParseError>) -
     let summary = |r: &Result<Scene<I16F16>, ParseError>| match r {
         Ok(s) => Ok((
             s.camera,
-            s.objects.len(),
-            s.lights.len(),
+            s.objects().len(),
+            s.lights().len(),
             s.ambient,
             s.background,
             s.shadows,
@@ -462,29 +462,10 @@ const EDGE_BYTES: &[u8] = &[
     0x0C,
 ];
 
-/// How many values a statement takes (a shape or axis word counts as one).
+/// How many values a statement takes (a shape or axis word counts as one):
+/// the library's keyword table's.
 fn arity(keyword: &str) -> usize {
-    match keyword {
-        "width"
-        | "aspect_ratio"
-        | "image_distance"
-        | "focal_length"
-        | "point"
-        | "radius"
-        | "shine"
-        | "texture"
-        | "total_transformation"
-        | "focus_distance"
-        | "f_number"
-        | "focus_on"
-        | "aperture_blades"
-        | "aperture_rotation"
-        | "shadows"
-        | "adaptive"
-        | "sampler" => 1,
-        "object" | "rotate" => 2,
-        _ => 3,
-    }
+    Keyword::from_name(keyword).map_or(3, Keyword::arity)
 }
 
 /// A number, mostly well-formed and within range, sometimes not.
@@ -617,29 +598,14 @@ fn statement(rng: &mut Rng) -> String {
 /// their properties and transformations.
 pub fn scene_from_grammar(rng: &mut Rng) -> Vec<u8> {
     let mut lines: Vec<String> = Vec::new();
-    const CAMERA: [&str; 19] = [
-        "focus_distance",
-        "f_number",
-        "focus_on",
-        "aperture_blades",
-        "aperture_rotation",
-        "width",
-        "aspect_ratio",
-        "image_distance",
-        "lens_position",
-        "focal_length",
-        "look",
-        "up",
-        "point",
-        "radius",
-        "ambient_light",
-        "background",
-        "shadows",
-        "adaptive",
-        "sampler",
-    ];
+    // The camera section's keywords, from the library's keyword table.
+    let camera: Vec<&str> = Keyword::ALL
+        .iter()
+        .filter(|k| k.section() == Section::Camera)
+        .map(|k| k.name())
+        .collect();
     for _ in 0..rng.below(6) {
-        let k = *rng.pick(&CAMERA);
+        let k = *rng.pick(&camera);
         lines.push(statement_for(rng, k));
     }
     for _ in 0..rng.below(4) {

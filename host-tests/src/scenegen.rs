@@ -780,7 +780,7 @@ mod tests {
                     panic!("seed {seed} {options:?}: {e}\n{text}");
                 }
                 let f = Scene::<f32>::parse(&text).unwrap_or_else(|e| panic!("seed {seed}: f32 {e}\n{text}"));
-                assert!(!f.objects.is_empty() && !f.lights.is_empty(), "seed {seed}");
+                assert!(!f.objects().is_empty() && !f.lights().is_empty(), "seed {seed}");
                 if options.camera == Camera::Lens {
                     assert!(f.camera.radius > 0.0, "seed {seed}: a lens scene without a lens");
                 }
@@ -851,11 +851,11 @@ mod tests {
         let scenes: Vec<Scene<f32>> = texts.iter().map(|t| Scene::parse(t).unwrap()).collect();
         let lenses = scenes.iter().filter(|s| s.camera.radius > 0.0).count();
         assert!((100..300).contains(&lenses), "{lenses} lens scenes of 500");
-        assert!(scenes.iter().any(|s| s.lights.len() >= 6));
-        assert!(scenes.iter().any(|s| s.objects.len() >= 10));
+        assert!(scenes.iter().any(|s| s.lights().len() >= 6));
+        assert!(scenes.iter().any(|s| s.objects().len() >= 10));
         assert!(scenes.iter().filter(|s| s.shadows).count() > 150);
         let reach = |s: &Scene<f32>| {
-            s.objects
+            s.objects()
                 .iter()
                 .filter_map(|o| o.bound())
                 .map(|(c, r)| {

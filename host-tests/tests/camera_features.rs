@@ -3,6 +3,7 @@
 //! progressive passes that end in exactly the plain render.
 
 use embedded_graphics::pixelcolor::RgbColor;
+use lensray::camera::CameraSample;
 use lensray::progressive::{render_pass, Schedule};
 use lensray::{Renderer, Scalar, Scene, I16F16};
 use lensray_host::measure::{gradient_energy, PixelBox};
@@ -158,8 +159,14 @@ fn object_box(scene: &Scene<I16F16>, w: u32, h: u32, i: usize) -> PixelBox {
     let b = lensray_host::measure::extent(
         &Image::filled(w, h, embedded_graphics::pixelcolor::Rgb888::BLACK),
         |x, y| {
-            let ray = r.camera().chief_ray_from(&r.camera().film_point(x, y));
-            scene.closest_hit(ray.origin, ray.dir, I16F16::EPSILON).map(|(k, _)| k) == Some(i)
+            let ray = r.camera().generate_ray(&CameraSample {
+                film: &r.camera().film_point(x, y),
+                lens: None,
+            });
+            scene
+                .closest_hit(ray.origin, ray.dir, I16F16::HIT_EPSILON)
+                .map(|(k, _)| k)
+                == Some(i)
         },
     )
     .unwrap();

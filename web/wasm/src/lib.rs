@@ -20,6 +20,7 @@ use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{OriginDimensions, Size};
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use embedded_graphics_core::Pixel;
+use lensray::camera::CameraSample;
 use lensray::progressive::{self, Pass, Schedule};
 use lensray::{Renderer, Scalar, Scene, I16F16};
 
@@ -277,7 +278,10 @@ pub fn hit_at<S: Scalar>(scene: &Scene<S>, width: u32, height: u32, col: u32, ro
     if col >= cam.cols() || row >= cam.rows() {
         return (0, f64::NAN);
     }
-    let ray = cam.chief_ray_from(&cam.film_point(col, row));
+    let ray = cam.generate_ray(&CameraSample {
+        film: &cam.film_point(col, row),
+        lens: None,
+    });
     let Some((i, hit)) = scene.closest_hit_camera_ray(&ray, renderer.cones()) else {
         return (0, f64::NAN);
     };
@@ -305,7 +309,7 @@ pub extern "C" fn lr_camera(what: u32) -> f64 {
             4 => c.aperture_rotation,
             5 => c.samples as f64,
             6 => c.aspect_ratio,
-            7 => sc.objects.len() as f64,
+            7 => sc.objects().len() as f64,
             _ => f64::NAN,
         }
     })

@@ -7,13 +7,14 @@
 
 use core::fmt;
 
-use crate::sampler::Sampler;
-use crate::scalar::Scalar;
+use crate::camera::sampler::Sampler;
+use crate::camera::{self, aperture};
+use crate::geometry::transform::Mat34;
+use crate::geometry::vec3::Vec3;
+use crate::number::Scalar;
+use crate::scene::autofocus;
+use crate::scene::shape::Shape;
 use crate::scene::{Light, Object, ObjectDesc, Scene, DEFAULT_MATERIAL, MATERIALS, MAX_LIGHTS, MAX_OBJECTS};
-use crate::shape::Shape;
-use crate::transform::Mat34;
-use crate::vec3::Vec3;
-use crate::{aperture, autofocus, camera};
 
 /// Magnitudes a real value must stay below: the range of Q16.16.
 pub const REAL_LIMIT: f64 = 32768.0;
@@ -271,40 +272,12 @@ impl fmt::Display for ParseError {
     }
 }
 
-/// Every keyword of the format.
-pub const KEYWORDS: [&str; 31] = [
-    "focus_distance",
-    "f_number",
-    "focus_on",
-    "aperture_blades",
-    "aperture_rotation",
-    "width",
-    "aspect_ratio",
-    "image_distance",
-    "lens_position",
-    "focal_length",
-    "look",
-    "up",
-    "point",
-    "radius",
-    "ambient_light",
-    "light_position",
-    "light_intensity",
-    "background",
-    "shadows",
-    "adaptive",
-    "sampler",
-    "object",
-    "Ka",
-    "Kd",
-    "Ks",
-    "shine",
-    "texture",
-    "total_transformation",
-    "scale",
-    "rotate",
-    "translate",
-];
+/// A scene that does not parse is an error like any other (`?` into
+/// `Box<dyn Error>` on the host, `defmt`-free reports on a board).
+impl core::error::Error for ParseError {}
+
+mod keyword;
+pub use keyword::{Keyword, Section, AXES, KEYWORDS, SAMPLERS, SWITCH};
 
 /// The most values any statement takes, plus one to detect extras.
 const MAX_VALUES: usize = 4;
@@ -312,7 +285,7 @@ const MAX_VALUES: usize = 4;
 /// One statement: its keyword and values.
 struct Statement<'a> {
     line: u32,
-    keyword: &'static str,
+    keyword: Keyword,
     values: [&'a str; MAX_VALUES],
     count: usize,
 }
@@ -326,7 +299,7 @@ impl<'a> Statement<'a> {
         const NAMES: [&str; 4] = ["0", "1", "2", "3"];
         if self.count != n {
             return Err(self.err(ErrorKind::WrongCount {
-                keyword: self.keyword,
+                keyword: self.keyword.name(),
                 expected: NAMES[n],
                 found: self.count,
             }));
@@ -339,7 +312,7 @@ impl<'a> Statement<'a> {
         let s = self.values[i];
         let x = parse_decimal(s).ok_or_else(|| {
             self.err(ErrorKind::NotANumber {
-                keyword: self.keyword,
+                keyword: self.keyword.name(),
                 value: word(s),
             })
         })?;
@@ -351,7 +324,7 @@ impl<'a> Statement<'a> {
 
     fn range(&self, i: usize, rule: &'static str) -> ParseError {
         self.err(ErrorKind::OutOfRange {
-            keyword: self.keyword,
+            keyword: self.keyword.name(),
             value: word(self.values[i]),
             rule,
         })
@@ -393,7 +366,7 @@ impl<'a> Statement<'a> {
                 }
             }
             return Err(self.err(ErrorKind::NotAnInteger {
-                keyword: self.keyword,
+                keyword: self.keyword.name(),
                 value: word(s),
             }));
         }
@@ -486,7 +459,7 @@ impl<S: Scalar> Scene<S> {
     /// ```
     /// use lensray::{Scene, I16F16};
     /// let scene = Scene::<I16F16>::parse("object sphere gold\ntranslate 0 0 -5\n").unwrap();
-    /// assert_eq!(scene.objects.len(), 1);
+    /// assert_eq!(scene.objects().len(), 1);
     /// let err = Scene::<I16F16>::parse("width 10\nligth_position 1 2 3\n").unwrap_err();
     /// assert_eq!(err.to_string(), "line 2: unknown keyword \"ligth_position\"");
     /// ```
@@ -540,7 +513,7 @@ impl<S: Scalar> Scene<S> {
             let text = statement_text(raw, line)?;
             let mut tokens = text.split([' ', '\t']).filter(|t| !t.is_empty());
             let Some(first) = tokens.next() else { continue };
-            let keyword = KEYWORDS.iter().find(|&&k| k == first).copied().ok_or(ParseError {
+            let keyword = Keyword::from_name(first).ok_or(ParseError {
                 line,
                 kind: ErrorKind::UnknownKeyword(word(first)),
             })?;
@@ -654,7 +627,7 @@ const GE0: &str = "must not be negative";
 
 impl<S: Scalar> Parser<'_, S> {
     fn statement(&mut self, st: &Statement<'_>) -> Result<(), ParseError> {
-        let is_transform = matches!(st.keyword, "scale" | "rotate" | "translate");
+        let is_transform = st.keyword.section() == Section::Transform;
         if let Some(obj) = &self.object {
             if let Some((count, count_line)) = obj.count {
                 if obj.seen < count && !is_transform {
@@ -668,28 +641,28 @@ impl<S: Scalar> Parser<'_, S> {
         }
         let cam = &mut self.scene.camera;
         match st.keyword {
-            "width" => cam.width = st.one_real(positive, GT0)?,
-            "aspect_ratio" => cam.aspect_ratio = st.one_real(positive, GT0)?,
-            "image_distance" => {
+            Keyword::Width => cam.width = st.one_real(positive, GT0)?,
+            Keyword::AspectRatio => cam.aspect_ratio = st.one_real(positive, GT0)?,
+            Keyword::ImageDistance => {
                 cam.image_distance = st.one_real(positive, GT0)?;
                 self.lines.image_distance = st.line;
             }
-            "lens_position" => {
+            Keyword::LensPosition => {
                 cam.lens_position = st.three(any, "")?;
                 self.lines.lens_position = st.line;
             }
-            "focal_length" => {
+            Keyword::FocalLength => {
                 cam.focal_length = st.one_real(positive, GT0)?;
                 self.lines.focal_length = st.line;
                 self.focus = Focus::FocalLength;
             }
-            "focus_distance" => self.focus = Focus::Distance(st.one_real(positive, GT0)?),
-            "focus_on" => {
+            Keyword::FocusDistance => self.focus = Focus::Distance(st.one_real(positive, GT0)?),
+            Keyword::FocusOn => {
                 let index = st.integer(1, MAX_OBJECTS as u64, "must be an object's number, from 1 (file order)")?;
                 self.focus = Focus::Object { index, line: st.line };
             }
-            "f_number" => self.stop = Stop::FNumber(st.one_real(positive, GT0)?, st.line),
-            "aperture_blades" => {
+            Keyword::FNumber => self.stop = Stop::FNumber(st.one_real(positive, GT0)?, st.line),
+            Keyword::ApertureBlades => {
                 const RULE: &str = "must be 0 (round) or between 3 and 16";
                 let n = st.integer(0, aperture::MAX_BLADES as u64, RULE)?;
                 if n == 1 || n == 2 {
@@ -697,13 +670,15 @@ impl<S: Scalar> Parser<'_, S> {
                 }
                 cam.aperture_blades = n;
             }
-            "aperture_rotation" => cam.aperture_rotation = st.one_real(any, "")?,
-            "look" | "up" => {
+            Keyword::ApertureRotation => cam.aperture_rotation = st.one_real(any, "")?,
+            Keyword::Look | Keyword::Up => {
                 let v = st.three(any, "")?;
                 if v == [0.0; 3] {
-                    return Err(st.err(ErrorKind::ZeroVector { keyword: st.keyword }));
+                    return Err(st.err(ErrorKind::ZeroVector {
+                        keyword: st.keyword.name(),
+                    }));
                 }
-                if st.keyword == "look" {
+                if st.keyword == Keyword::Look {
                     cam.look = v;
                     self.lines.look = st.line;
                 } else {
@@ -711,38 +686,40 @@ impl<S: Scalar> Parser<'_, S> {
                     self.lines.up = st.line;
                 }
             }
-            "point" => cam.samples = st.integer(1, 65535, "must be between 1 and 65535")?,
-            "radius" => {
+            Keyword::Point => cam.samples = st.integer(1, 65535, "must be between 1 and 65535")?,
+            Keyword::Radius => {
                 cam.radius = st.one_real(non_negative, GE0)?;
                 self.stop = Stop::Radius;
             }
-            "ambient_light" => self.scene.ambient = Vec3::from_f64(st.three(non_negative, GE0)?),
-            "background" => self.scene.background = Vec3::from_f64(st.three(unit_interval, "must be between 0 and 1")?),
-            "shadows" => {
+            Keyword::AmbientLight => self.scene.ambient = Vec3::from_f64(st.three(non_negative, GE0)?),
+            Keyword::Background => {
+                self.scene.background = Vec3::from_f64(st.three(unit_interval, "must be between 0 and 1")?)
+            }
+            Keyword::Shadows => {
                 st.expect(1)?;
                 self.scene.shadows = match st.values[0] {
-                    "on" => true,
-                    "off" => false,
+                    w if w == SWITCH[1] => true,
+                    w if w == SWITCH[0] => false,
                     other => return Err(st.err(ErrorKind::NotASwitch("shadows", word(other)))),
                 };
             }
-            "adaptive" => {
+            Keyword::Adaptive => {
                 st.expect(1)?;
                 cam.adaptive = match st.values[0] {
-                    "on" => true,
-                    "off" => false,
+                    w if w == SWITCH[1] => true,
+                    w if w == SWITCH[0] => false,
                     other => return Err(st.err(ErrorKind::NotASwitch("adaptive", word(other)))),
                 };
             }
-            "sampler" => {
+            Keyword::Sampler => {
                 st.expect(1)?;
                 cam.sampler = match st.values[0] {
-                    "independent" => Sampler::Independent,
-                    "stratified" => Sampler::Stratified,
+                    w if w == SAMPLERS[0] => Sampler::Independent,
+                    w if w == SAMPLERS[1] => Sampler::Stratified,
                     other => return Err(st.err(ErrorKind::UnknownSampler(word(other)))),
                 };
             }
-            "light_position" => {
+            Keyword::LightPosition => {
                 let at = st.three(any, "")?;
                 // Same capacity as the lights: a push that fails here fails below too.
                 let _ = self.light_at.push((st.line, at));
@@ -756,12 +733,12 @@ impl<S: Scalar> Parser<'_, S> {
                     .push(light)
                     .map_err(|_| st.err(ErrorKind::TooManyLights { limit: MAX_LIGHTS }))?;
             }
-            "light_intensity" => {
+            Keyword::LightIntensity => {
                 let v = Vec3::from_f64(st.three(non_negative, GE0)?);
                 let light = self.scene.lights.last_mut().ok_or(st.err(ErrorKind::NoLight))?;
                 light.intensity = v;
             }
-            "object" => self.start_object(st)?,
+            Keyword::Object => self.start_object(st)?,
             _ => self.object_statement(st)?,
         }
         Ok(())
@@ -770,7 +747,7 @@ impl<S: Scalar> Parser<'_, S> {
     fn start_object(&mut self, st: &Statement<'_>) -> Result<(), ParseError> {
         if st.count == 0 || st.count > 2 {
             return Err(st.err(ErrorKind::WrongCount {
-                keyword: "object",
+                keyword: Keyword::Object.name(),
                 expected: "1 or 2",
                 found: st.count,
             }));
@@ -810,48 +787,47 @@ impl<S: Scalar> Parser<'_, S> {
     }
 
     fn object_statement(&mut self, st: &Statement<'_>) -> Result<(), ParseError> {
-        let obj = self
-            .object
-            .as_mut()
-            .ok_or_else(|| st.err(ErrorKind::NoObject { keyword: st.keyword }))?;
+        let obj = self.object.as_mut().ok_or_else(|| {
+            st.err(ErrorKind::NoObject {
+                keyword: st.keyword.name(),
+            })
+        })?;
         let d = &mut obj.desc;
         let transform = match st.keyword {
-            "Ka" => {
+            Keyword::Ka => {
                 d.ka = st.three(non_negative, GE0)?;
                 None
             }
-            "Kd" => {
+            Keyword::Kd => {
                 d.kd = st.three(non_negative, GE0)?;
                 None
             }
-            "Ks" => {
+            Keyword::Ks => {
                 d.ks = st.three(non_negative, GE0)?;
                 None
             }
-            "shine" => {
+            Keyword::Shine => {
                 d.shine = st.one_real(non_negative, GE0)?;
                 None
             }
-            "texture" => {
+            Keyword::Texture => {
                 d.texture = st.one_real(non_negative, GE0)?;
                 None
             }
-            "total_transformation" => {
+            Keyword::TotalTransformation => {
                 let n = st.integer(0, 1_000_000, "must be between 0 and 1000000")?;
                 obj.count = Some((n, st.line));
                 obj.seen = 0;
                 None
             }
-            "scale" => Some(Mat34::scale(st.three(non_zero, "must not be 0")?)),
-            "translate" => Some(Mat34::translate(st.three(any, "")?)),
-            "rotate" => {
+            Keyword::Scale => Some(Mat34::scale(st.three(non_zero, "must not be 0")?)),
+            Keyword::Translate => Some(Mat34::translate(st.three(any, "")?)),
+            Keyword::Rotate => {
                 st.expect(2)?;
-                let axis = match st.values[0] {
-                    "x" => 0,
-                    "y" => 1,
-                    "z" => 2,
-                    other => return Err(st.err(ErrorKind::UnknownAxis(word(other)))),
-                };
+                let axis = AXES
+                    .iter()
+                    .position(|&a| a == st.values[0])
+                    .ok_or_else(|| st.err(ErrorKind::UnknownAxis(word(st.values[0]))))?;
                 Some(Mat34::rotate(axis, st.real(1)?))
             }
             _ => None,

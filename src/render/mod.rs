@@ -4,17 +4,22 @@
 //! of colours, and [`render`] streams each row into the target with one
 //! `fill_contiguous` call, computing pixels as the target consumes them.
 
-use crate::camera::Camera;
-use crate::cull::LensCones;
-use crate::footprint::BrightFootprints;
-use crate::sampler::{PixelSamples, Sampler};
-use crate::scalar::Scalar;
+use crate::camera::sampler::{PixelSamples, Sampler};
+use crate::camera::{Camera, CameraSample};
+use crate::geometry::vec3::Vec3;
+use crate::number::Scalar;
+use crate::render::cull::LensCones;
+use crate::render::footprint::BrightFootprints;
 use crate::scene::Scene;
-use crate::vec3::Vec3;
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Point, Size};
 use embedded_graphics_core::pixelcolor::Rgb888;
 use embedded_graphics_core::primitives::Rectangle;
+
+pub mod cull;
+pub mod footprint;
+pub mod progressive;
+mod trace;
 
 /// A scene and a camera set up for one image size: renders pixels.
 ///
@@ -34,7 +39,7 @@ pub struct Renderer<'a, S: Scalar> {
 }
 
 /// Lens samples an adaptive pixel takes before it first asks whether it is
-/// done: one in each of 16 equal strata of the lens (see [`crate::sampler`]).
+/// done: one in each of 16 equal strata of the lens (see [`crate::camera::sampler`]).
 pub const ADAPTIVE_PILOT: u32 = 16;
 
 /// The pilot of a pixel with `samples` lens samples: the largest power of two
@@ -230,7 +235,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
         let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
-            let ray = self.camera.chief_ray_from(&film);
+            let ray = self.camera.generate_ray(&CameraSample {
+                film: &film,
+                lens: None,
+            });
             return (self.scene.trace_camera_ray(&ray, &self.cones), 1);
         }
         // The pixel's own samples: independent of row order and threads.
@@ -247,7 +255,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         };
         let mut n = 0;
         while n < self.samples {
-            let ray = self.camera.lens_ray_from(&film, lens.next(self.camera.aperture()));
+            let ray = self.camera.generate_ray(&CameraSample {
+                film: &film,
+                lens: Some(lens.next(self.camera.aperture())),
+            });
             let c = self.scene.trace_camera_ray(&ray, &self.cones);
             acc = [
                 S::acc_add(acc[0], c.x),

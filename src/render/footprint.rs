@@ -17,7 +17,7 @@
 //! in the footprint of an object that can shine more than [`BRIGHT`] times
 //! white takes all its samples.
 
-use crate::scalar::Scalar;
+use crate::number::Scalar;
 use crate::scene::Scene;
 
 /// Objects whose brightest possible colour (ambient plus every light at full
@@ -136,21 +136,21 @@ impl BrightFootprints {
     }
 }
 
-impl crate::baked::Field for Spot {
-    crate::baked::baked_fields!(Spot { col2, row2, radius2 }, check(spot) {
+impl crate::bytes::Field for Spot {
+    crate::bytes::baked_fields!(Spot { col2, row2, radius2 }, check(spot) {
         if spot.radius2 < 0 {
-            return Err(crate::baked::BakeError::OutOfRange("a bright footprint's radius is negative"));
+            return Err(crate::bytes::BakeError::OutOfRange("a bright footprint's radius is negative"));
         }
     });
 }
 
-impl crate::baked::Field for BrightFootprints {
-    crate::baked::baked_fields!(BrightFootprints { spots, everywhere });
+impl crate::bytes::Field for BrightFootprints {
+    crate::bytes::baked_fields!(BrightFootprints { spots, everywhere });
 }
 
 impl BrightFootprints {
     /// No bright object: what an empty baked scene holds.
     pub(crate) fn blank() -> Self {
-        <Self as crate::baked::Field>::blank()
+        <Self as crate::bytes::Field>::blank()
     }
 }

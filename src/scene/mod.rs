@@ -5,104 +5,19 @@
 //! which stay exact (`f64`) until the image size is known (see
 //! [`crate::camera::Camera::new`]).
 
-use crate::camera::Ray;
-use crate::cull::LensCones;
-use crate::sampler::Sampler;
-use crate::scalar::Scalar;
-use crate::shape::{LocalHit, Shape};
-use crate::transform::{Affine, Mat34};
-use crate::vec3::Vec3;
+pub use crate::camera::CameraParams;
+use crate::geometry::transform::{Affine, Mat34};
+use crate::geometry::vec3::Vec3;
+use crate::number::Scalar;
+use crate::scene::shape::{LocalHit, Shape};
+
+pub mod autofocus;
+pub mod shape;
 
 /// Most objects a scene can hold (fixed capacity: no allocator).
 pub const MAX_OBJECTS: usize = 16;
 /// Most point lights a scene can hold.
 pub const MAX_LIGHTS: usize = 8;
-
-/// The camera statements of a scene, exactly as written (defaults filled in).
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct CameraParams {
-    /// Film width in world units (`width`).
-    pub width: f64,
-    /// Film width / height (`aspect_ratio`): the host's default image height.
-    pub aspect_ratio: f64,
-    /// Lens-to-film distance N (`image_distance`).
-    pub image_distance: f64,
-    /// Lens centre E (`lens_position`).
-    pub lens_position: [f64; 3],
-    /// Focal length f, 0 < f < N (`focal_length`).
-    pub focal_length: f64,
-    /// Viewing direction (`look`), not zero.
-    pub look: [f64; 3],
-    /// Up direction (`up`), not parallel to `look`.
-    pub up: [f64; 3],
-    /// Lens samples per pixel (`point`), 1..=65535.
-    pub samples: u32,
-    /// Lens radius a (`radius`); 0 is a pinhole.
-    pub radius: f64,
-    /// Blades of the aperture (`aperture_blades`): 0 is a round aperture, else
-    /// the lens is a regular polygon of that many sides (3 to
-    /// [`crate::aperture::MAX_BLADES`]) inscribed in the circle of radius a.
-    pub aperture_blades: u32,
-    /// Rotation of the aperture polygon in degrees (`aperture_rotation`): at 0
-    /// a corner points along the camera's u (right); positive turns towards v (up).
-    pub aperture_rotation: f64,
-    /// Adaptive lens sampling (`adaptive on|off`): a pixel stops taking lens
-    /// samples once their mean is settled (see [`crate::Renderer::pixel_rays`]).
-    pub adaptive: bool,
-    /// How lens points are drawn (`sampler independent|stratified`).
-    pub sampler: Sampler,
-}
-
-impl Default for CameraParams {
-    fn default() -> Self {
-        CameraParams {
-            width: 10.0,
-            aspect_ratio: 1.33,
-            image_distance: 8.0,
-            lens_position: [0.0; 3],
-            focal_length: 4.0,
-            look: [0.0, 0.0, -1.0],
-            up: [0.0, 1.0, 0.0],
-            samples: 1,
-            radius: 0.0,
-            aperture_blades: 0,
-            aperture_rotation: 0.0,
-            adaptive: true,
-            sampler: Sampler::Stratified,
-        }
-    }
-}
-
-impl CameraParams {
-    /// Distance of the plane in focus from the lens: f·N / (N − f).
-    pub fn focus_depth(&self) -> f64 {
-        self.focal_length * self.image_distance / (self.image_distance - self.focal_length)
-    }
-
-    /// The focal length that puts the plane in focus at distance `d > 0` with
-    /// the image distance N kept (thin lens: 1/f = 1/N + 1/d), so the framing
-    /// stays as it is: N d / (N + d), always between 0 and N.
-    pub fn focal_length_for_distance(&self, d: f64) -> f64 {
-        self.image_distance * d / (self.image_distance + d)
-    }
-
-    /// Refocuses at distance `d > 0` (`focus_distance`): sets the focal length
-    /// by [`CameraParams::focal_length_for_distance`].
-    pub fn set_focus_distance(&mut self, d: f64) {
-        self.focal_length = self.focal_length_for_distance(d);
-    }
-
-    /// The f-number f / (2a); infinite for a pinhole.
-    pub fn f_number(&self) -> f64 {
-        self.focal_length / (2.0 * self.radius)
-    }
-
-    /// Sets the lens radius from an f-number `k > 0` (`f_number`) and the
-    /// current focal length: a = f / (2k). Call it after any refocus.
-    pub fn set_f_number(&mut self, k: f64) {
-        self.radius = self.focal_length / (2.0 * k);
-    }
-}
 
 /// Reflectances and Phong exponent of a surface.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -117,8 +32,8 @@ pub struct Material<S> {
     pub shine: S,
 }
 
-impl<S: crate::baked::Field> crate::baked::Field for Material<S> {
-    crate::baked::baked_fields!(Material { ka, kd, ks, shine });
+impl<S: crate::bytes::Field> crate::bytes::Field for Material<S> {
+    crate::bytes::baked_fields!(Material { ka, kd, ks, shine });
 }
 
 /// A named material of the classic OpenGL table: Ka, Kd, Ks, shine (f64).
@@ -237,8 +152,8 @@ pub struct Object<S: Scalar> {
     plane_normal: Vec3<S>,
 }
 
-impl<S: crate::baked::BakeScalar> crate::baked::Field for Object<S> {
-    crate::baked::baked_fields!(Object {
+impl<S: crate::number::BakeScalar> crate::bytes::Field for Object<S> {
+    crate::bytes::baked_fields!(Object {
         shape,
         material,
         texture,
@@ -250,7 +165,7 @@ impl<S: crate::baked::BakeScalar> crate::baked::Field for Object<S> {
     }, check(obj) {
         // The plane is the one shape without a bounding sphere; intersect relies on it.
         if (obj.shape == Shape::Plane) != obj.bound.is_none() {
-            return Err(crate::baked::BakeError::OutOfRange("bounding sphere does not match the shape"));
+            return Err(crate::bytes::BakeError::OutOfRange("bounding sphere does not match the shape"));
         }
     });
 }
@@ -320,9 +235,9 @@ impl<S: Scalar> Object<S> {
     }
 
     /// As [`Object::intersect`], with `precise` the ray's direction held more
-    /// precisely (any length; see [`Scalar::Dir`]), which the plane uses.
+    /// precisely (any length; see `Kernels::Dir`), which the plane uses.
     pub fn intersect_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, t_min: S, t_max: S) -> Option<Hit<S>> {
-        let Some((center, radius)) = self.bound else {
+        if self.shape == Shape::Plane {
             // Unbounded plane: from the ray's own origin, with the precise
             // direction (a grazing hit 100 away moves by 100² times its error).
             let (t, x, y) = self.to_object.plane_hit(o, precise, t_min, t_max)?;
@@ -332,7 +247,9 @@ impl<S: Scalar> Object<S> {
                 n: Vec3::new(S::ZERO, S::ZERO, S::ONE),
             };
             return Some(Hit { t, local });
-        };
+        }
+        // Every other shape has a bounding sphere (checked when it is made).
+        let (center, radius) = self.bound?;
         // Cheap reject against the world bounding sphere.
         let oc = center - o;
         let tc = oc.dot(d);
@@ -359,7 +276,7 @@ impl<S: Scalar> Object<S> {
         let lo = self.to_object.point(o + d * t_off);
         let lt_min = to_local(t_min.sub(t_off));
         let lt_max = to_local(t_max.sub(t_off));
-        let h = self.shape.intersect(lo, ld, lt_min, lt_max)?;
+        let h = self.shape.intersect_bounded(lo, ld, lt_min, lt_max)?;
         let t = t_off.add(to_world(h.t));
         if t <= t_min || t >= t_max {
             return None;
@@ -401,7 +318,7 @@ pub struct Hit<S> {
     /// World-space distance along the (unit) ray.
     pub t: S,
     /// The object-space hit.
-    pub local: crate::shape::LocalHit<S>,
+    pub local: crate::scene::shape::LocalHit<S>,
 }
 
 /// Largest factor by which the linear part stretches a vector (its top
@@ -441,8 +358,8 @@ pub struct Light<S> {
     pub intensity: Vec3<S>,
 }
 
-impl<S: crate::baked::Field> crate::baked::Field for Light<S> {
-    crate::baked::baked_fields!(Light { position, intensity });
+impl<S: crate::bytes::Field> crate::bytes::Field for Light<S> {
+    crate::bytes::baked_fields!(Light { position, intensity });
 }
 
 /// A parsed, validated scene in the number type `S`.
@@ -456,10 +373,27 @@ pub struct Scene<S: Scalar> {
     pub background: Vec3<S>,
     /// Whether shadow rays are cast.
     pub shadows: bool,
-    /// The objects, in file order.
-    pub objects: heapless::Vec<Object<S>, MAX_OBJECTS>,
-    /// The point lights, in file order.
-    pub lights: heapless::Vec<Light<S>, MAX_LIGHTS>,
+    /// The objects, in file order (see [`Scene::objects`]).
+    pub(crate) objects: heapless::Vec<Object<S>, MAX_OBJECTS>,
+    /// The point lights, in file order (see [`Scene::lights`]).
+    pub(crate) lights: heapless::Vec<Light<S>, MAX_LIGHTS>,
+}
+
+impl<S: Scalar> Scene<S> {
+    /// The objects, in file order (at most [`MAX_OBJECTS`]).
+    pub fn objects(&self) -> &[Object<S>] {
+        &self.objects
+    }
+
+    /// The point lights, in file order (at most [`MAX_LIGHTS`]).
+    pub fn lights(&self) -> &[Light<S>] {
+        &self.lights
+    }
+
+    /// Keeps only the first `n` lights (a profile measures the cost of each).
+    pub fn truncate_lights(&mut self, n: usize) {
+        self.lights.truncate(n);
+    }
 }
 
 impl<S: Scalar> Default for Scene<S> {
@@ -473,122 +407,6 @@ impl<S: Scalar> Default for Scene<S> {
             objects: heapless::Vec::new(),
             lights: heapless::Vec::new(),
         }
-    }
-}
-
-impl<S: Scalar> Scene<S> {
-    /// The nearest object hit by the ray `o + t d` (unit `d`) with `t_min < t`.
-    pub fn closest_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S) -> Option<(usize, Hit<S>)> {
-        self.closest_hit_dir(o, d, S::dir_from(d.to_array()), t_min)
-    }
-
-    /// As [`Scene::closest_hit`], with the ray's direction also held precisely.
-    pub fn closest_hit_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, t_min: S) -> Option<(usize, Hit<S>)> {
-        self.closest_hit_culled(o, d, precise, t_min, None)
-    }
-
-    /// The nearest object hit by a camera ray (which leaves the lens: see
-    /// [`LensCones`]): [`Scene::closest_hit_dir`] with the objects out of the
-    /// ray's reach skipped.
-    pub fn closest_hit_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Option<(usize, Hit<S>)> {
-        self.closest_hit_culled(ray.origin, ray.dir, ray.precise, S::EPSILON, Some(cones))
-    }
-
-    /// As [`Scene::closest_hit_dir`], skipping the objects a ray from the
-    /// lens cannot reach where `cones` is given.
-    fn closest_hit_culled(
-        &self,
-        o: Vec3<S>,
-        d: Vec3<S>,
-        precise: S::Dir,
-        t_min: S,
-        cones: Option<&LensCones<S>>,
-    ) -> Option<(usize, Hit<S>)> {
-        let mut best: Option<(usize, Hit<S>)> = None;
-        for (i, obj) in self.objects.iter().enumerate() {
-            if let Some(c) = cones {
-                if !c.may_reach(i, d) {
-                    continue;
-                }
-            }
-            let t_max = best.map_or(S::MAX, |(_, h)| h.t);
-            if let Some(h) = obj.intersect_dir(o, d, precise, t_min, t_max) {
-                best = Some((i, h));
-            }
-        }
-        best
-    }
-
-    /// Whether anything lies on the ray within `t_min < t < t_max`
-    /// (stops at the first hit: shadow rays).
-    pub fn any_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> bool {
-        self.objects
-            .iter()
-            .any(|obj| obj.intersect(o, d, t_min, t_max).is_some())
-    }
-
-    /// The colour seen along the ray `o + t d` (unit `d`), unclamped.
-    ///
-    /// # Panics
-    ///
-    /// Never: every operation saturates.
-    pub fn trace(&self, o: Vec3<S>, d: Vec3<S>) -> Vec3<S> {
-        self.trace_dir(o, d, S::dir_from(d.to_array()))
-    }
-
-    /// As [`Scene::trace`], with the ray's direction also held precisely
-    /// (any length): the camera's rays, see [`crate::camera::Ray`].
-    pub fn trace_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir) -> Vec3<S> {
-        self.trace_culled(o, d, precise, None)
-    }
-
-    /// The colour seen along a camera ray (which leaves the lens: see
-    /// [`LensCones`]), unclamped: [`Scene::trace_dir`] with the objects out
-    /// of the ray's reach skipped.
-    pub fn trace_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Vec3<S> {
-        self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones))
-    }
-
-    fn trace_culled(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, cones: Option<&LensCones<S>>) -> Vec3<S> {
-        let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::EPSILON, cones) else {
-            return self.background;
-        };
-        let obj = &self.objects[i];
-        let p = o + d * hit.t;
-        let n = obj.normal(&hit, d);
-        let v = -d;
-        let m = &obj.material;
-        let (ka, kd) = if obj.in_dark_square(&hit) {
-            let q = S::from_q15(8192);
-            (m.ka * q, m.kd * q)
-        } else {
-            (m.ka, m.kd)
-        };
-        let mut colour = ka.hadamard(self.ambient);
-        // Shadow rays leave from just above the surface, on the viewer's side.
-        let p_shadow = if self.shadows { p + n * S::EPSILON } else { p };
-        for light in &self.lights {
-            let to_light = light.position - p;
-            // A light behind the surface needs no normalising (in Program 1, the
-            // lamp under the floor for every floor pixel).
-            if !S::dot_positive(n.to_array(), to_light.to_array()) {
-                continue;
-            }
-            let (l, dist) = to_light.normalize_len();
-            let n_dot_l = n.dot(l);
-            if n_dot_l <= S::ZERO {
-                continue;
-            }
-            if self.shadows && self.any_hit(p_shadow, l, S::EPSILON, dist) {
-                continue;
-            }
-            let r = n * n_dot_l.add(n_dot_l) - l;
-            let r_dot_v = r.dot(v).max(S::ZERO);
-            let diffuse = kd * n_dot_l;
-            let specular = m.ks * r_dot_v.powf(m.shine);
-            colour = colour + (diffuse + specular).hadamard(light.intensity);
-        }
-        colour
     }
 }
 
@@ -614,7 +432,7 @@ mod tests {
     /// World-space hit distance and unit normal (facing the ray), in f64.
     fn hit<S: Scalar>(obj: &Object<S>, o: [f64; 3], d: [f64; 3]) -> Option<(f64, [f64; 3])> {
         let (o, d) = (Vec3::<S>::from_f64(o), Vec3::<S>::from_f64(d).normalize());
-        let h = obj.intersect(o, d, S::EPSILON, S::MAX)?;
+        let h = obj.intersect(o, d, S::HIT_EPSILON, S::MAX)?;
         Some((h.t.to_f64(), obj.normal(&h, d).to_f64()))
     }
 

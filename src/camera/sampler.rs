@@ -20,8 +20,8 @@
 //! two shift words and the sample index, a few words a pixel; a pixel's points
 //! depend on that pixel alone, never on the order of the rows.
 
-use crate::aperture::Aperture;
-use crate::lfsr::Lfsr;
+use crate::camera::aperture::Aperture;
+use crate::camera::lfsr::Lfsr;
 
 /// How a pixel's lens points are drawn (`sampler independent|stratified`).
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Default)]
@@ -137,17 +137,17 @@ impl PixelSamples {
     }
 }
 
-impl crate::baked::Field for Sampler {
-    fn put(&self, w: &mut crate::baked::Writer<'_>) {
-        crate::baked::Field::put(&(*self as u8), w);
+impl crate::bytes::Field for Sampler {
+    fn put(&self, w: &mut crate::bytes::Writer<'_>) {
+        crate::bytes::Field::put(&(*self as u8), w);
     }
-    fn take(&mut self, r: &mut crate::baked::Reader<'_>) -> Result<(), crate::baked::BakeError> {
+    fn take(&mut self, r: &mut crate::bytes::Reader<'_>) -> Result<(), crate::bytes::BakeError> {
         let mut tag = 0u8;
-        crate::baked::Field::take(&mut tag, r)?;
+        crate::bytes::Field::take(&mut tag, r)?;
         *self = match tag {
             0 => Sampler::Independent,
             1 => Sampler::Stratified,
-            _ => return Err(crate::baked::BakeError::OutOfRange("unknown lens sampler")),
+            _ => return Err(crate::bytes::BakeError::OutOfRange("unknown lens sampler")),
         };
         Ok(())
     }

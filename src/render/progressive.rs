@@ -61,8 +61,8 @@
 //! # Ok::<(), lensray::ParseError>(())
 //! ```
 
+use crate::number::Scalar;
 use crate::render::{addressable, Renderer};
-use crate::scalar::Scalar;
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Point, Size};
 use embedded_graphics_core::pixelcolor::Rgb888;

@@ -7,9 +7,9 @@
 //! chosen at set-up, so that a ray's direction costs six small products, one
 //! square root and one reciprocal, and comes out a unit vector to 30 bits.
 
-use crate::plane::unit_mantissas;
-use crate::scalar::{shr_round, FixedDir};
-use crate::wide::{bits_u64, mul_i32};
+use crate::number::plane::unit_mantissas;
+use crate::number::wide::{bits_u64, mul_i32};
+use crate::number::{shr_round, FixedDir};
 use fixed::types::I16F16;
 
 /// The map's exact parts, from the camera's set-up (world space).
@@ -44,11 +44,11 @@ pub struct FixedFilmMap {
     f: u32,
 }
 
-impl crate::baked::Field for FixedFilmMap {
-    crate::baked::baked_fields!(FixedFilmMap { a, b, c, k_u, k_v, f }, check(m) {
+impl crate::bytes::Field for FixedFilmMap {
+    crate::bytes::baked_fields!(FixedFilmMap { a, b, c, k_u, k_v, f }, check(m) {
         // Directions stay below 2^31 at scale 2^-s, so c below 2^46 at 2^-(s + f).
         if m.f > 15 || m.c.iter().any(|x| x.unsigned_abs() >= 1 << 46) {
-            return Err(crate::baked::BakeError::OutOfRange("film map beyond its scale"));
+            return Err(crate::bytes::BakeError::OutOfRange("film map beyond its scale"));
         }
     });
 }
@@ -176,8 +176,8 @@ pub struct FloatFilmMap {
     k_v: [f32; 3],
 }
 
-impl crate::baked::Field for FloatFilmMap {
-    crate::baked::baked_fields!(FloatFilmMap { a, b, c, k_u, k_v });
+impl crate::bytes::Field for FloatFilmMap {
+    crate::bytes::baked_fields!(FloatFilmMap { a, b, c, k_u, k_v });
 }
 
 impl FloatFilmMap {
@@ -209,7 +209,7 @@ impl FloatFilmMap {
             let (sx, sy) = (lens.0 as f32 / 32768.0, lens.1 as f32 / 32768.0);
             [0, 1, 2].map(|k| film[k] - sx * self.k_u[k] - sy * self.k_v[k])
         };
-        <f32 as crate::scalar::Scalar>::normalize3(d).0
+        <f32 as crate::number::Kernels>::normalize3(d).0
     }
 }
 

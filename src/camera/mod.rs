@@ -11,16 +11,21 @@
 //! `p_focus − p_lens` is parallel to `p_film − p_lens / m`, which keeps every
 //! number near the film's size however far the focus lies: what Q16.16 needs.
 //!
-//! The lens samples arrive from outside (see [`crate::lfsr`]), so the camera
+//! The lens samples arrive from outside (see [`crate::camera::lfsr`]), so the camera
 //! itself is deterministic.
 
-use crate::aperture::Aperture;
-use crate::film::FilmMapDesc;
-use crate::lfsr::Lfsr;
-use crate::scalar::Scalar;
-use crate::scene::CameraParams;
-use crate::transform::{Affine, Mat34};
-use crate::vec3::Vec3;
+use crate::camera::aperture::Aperture;
+use crate::camera::lfsr::Lfsr;
+use crate::camera::sampler::Sampler;
+pub use crate::geometry::ray::Ray;
+use crate::geometry::transform::{Affine, Mat34};
+use crate::geometry::vec3::Vec3;
+use crate::number::film::FilmMapDesc;
+use crate::number::Scalar;
+
+pub mod aperture;
+pub mod lfsr;
+pub mod sampler;
 
 /// Largest image side the camera accepts (pixel indices enter Q16.16 as
 /// `2c + 1`, which must stay below 32768).
@@ -31,7 +36,7 @@ pub const MAX_IMAGE_SIDE: u32 = 8192;
 pub struct Camera<S: Scalar> {
     /// Maps `(2c + 1, 2r + 1, 0)` to the film point `(u_c, v_r, −N)`.
     film: Affine<S>,
-    /// Pixel → world direction of its rays, exactly (see [`crate::film`]).
+    /// Pixel → world direction of its rays, exactly (see [`crate::number::film`]).
     map: S::FilmMap,
     /// The lens centre E in world space: the chief rays' common origin.
     eye: Vec3<S>,
@@ -46,26 +51,101 @@ pub struct Camera<S: Scalar> {
     rows: u32,
 }
 
-impl<S: crate::baked::BakeScalar> crate::baked::Field for Camera<S> {
-    crate::baked::baked_fields!(Camera { film, map, eye, lens_u, lens_v, pinhole, aperture, cols, rows }, check(cam) {
+impl<S: crate::number::BakeScalar> crate::bytes::Field for Camera<S> {
+    crate::bytes::baked_fields!(Camera { film, map, eye, lens_u, lens_v, pinhole, aperture, cols, rows }, check(cam) {
         if !(1..=MAX_IMAGE_SIDE).contains(&cam.cols) || !(1..=MAX_IMAGE_SIDE).contains(&cam.rows) {
-            return Err(crate::baked::BakeError::OutOfRange("image side not in 1..=8192"));
+            return Err(crate::bytes::BakeError::OutOfRange("image side not in 1..=8192"));
         }
         if !S::film_map_fits(&cam.map, cam.cols, cam.rows) {
-            return Err(crate::baked::BakeError::OutOfRange("film map too large for the image"));
+            return Err(crate::bytes::BakeError::OutOfRange("film map too large for the image"));
         }
     });
 }
 
-/// A primary ray in world space, with a unit direction.
+/// The camera statements of a scene, exactly as written (defaults filled in).
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Ray<S: Scalar> {
-    /// Origin: the lens point.
-    pub origin: Vec3<S>,
-    /// Unit direction.
-    pub dir: Vec3<S>,
-    /// The same unit direction held more precisely (for the plane).
-    pub precise: S::Dir,
+pub struct CameraParams {
+    /// Film width in world units (`width`).
+    pub width: f64,
+    /// Film width / height (`aspect_ratio`): the host's default image height.
+    pub aspect_ratio: f64,
+    /// Lens-to-film distance N (`image_distance`).
+    pub image_distance: f64,
+    /// Lens centre E (`lens_position`).
+    pub lens_position: [f64; 3],
+    /// Focal length f, 0 < f < N (`focal_length`).
+    pub focal_length: f64,
+    /// Viewing direction (`look`), not zero.
+    pub look: [f64; 3],
+    /// Up direction (`up`), not parallel to `look`.
+    pub up: [f64; 3],
+    /// Lens samples per pixel (`point`), 1..=65535.
+    pub samples: u32,
+    /// Lens radius a (`radius`); 0 is a pinhole.
+    pub radius: f64,
+    /// Blades of the aperture (`aperture_blades`): 0 is a round aperture, else
+    /// the lens is a regular polygon of that many sides (3 to
+    /// [`crate::camera::aperture::MAX_BLADES`]) inscribed in the circle of radius a.
+    pub aperture_blades: u32,
+    /// Rotation of the aperture polygon in degrees (`aperture_rotation`): at 0
+    /// a corner points along the camera's u (right); positive turns towards v (up).
+    pub aperture_rotation: f64,
+    /// Adaptive lens sampling (`adaptive on|off`): a pixel stops taking lens
+    /// samples once their mean is settled (see [`crate::Renderer::pixel_rays`]).
+    pub adaptive: bool,
+    /// How lens points are drawn (`sampler independent|stratified`).
+    pub sampler: Sampler,
+}
+
+impl Default for CameraParams {
+    fn default() -> Self {
+        CameraParams {
+            width: 10.0,
+            aspect_ratio: 1.33,
+            image_distance: 8.0,
+            lens_position: [0.0; 3],
+            focal_length: 4.0,
+            look: [0.0, 0.0, -1.0],
+            up: [0.0, 1.0, 0.0],
+            samples: 1,
+            radius: 0.0,
+            aperture_blades: 0,
+            aperture_rotation: 0.0,
+            adaptive: true,
+            sampler: Sampler::Stratified,
+        }
+    }
+}
+
+impl CameraParams {
+    /// Distance of the plane in focus from the lens: f·N / (N − f).
+    pub fn focus_depth(&self) -> f64 {
+        self.focal_length * self.image_distance / (self.image_distance - self.focal_length)
+    }
+
+    /// The focal length that puts the plane in focus at distance `d > 0` with
+    /// the image distance N kept (thin lens: 1/f = 1/N + 1/d), so the framing
+    /// stays as it is: N d / (N + d), always between 0 and N.
+    pub fn focal_length_for_distance(&self, d: f64) -> f64 {
+        self.image_distance * d / (self.image_distance + d)
+    }
+
+    /// Refocuses at distance `d > 0` (`focus_distance`): sets the focal length
+    /// by [`CameraParams::focal_length_for_distance`].
+    pub fn set_focus_distance(&mut self, d: f64) {
+        self.focal_length = self.focal_length_for_distance(d);
+    }
+
+    /// The f-number f / (2a); infinite for a pinhole.
+    pub fn f_number(&self) -> f64 {
+        self.focal_length / (2.0 * self.radius)
+    }
+
+    /// Sets the lens radius from an f-number `k > 0` (`f_number`) and the
+    /// current focal length: a = f / (2k). Call it after any refocus.
+    pub fn set_f_number(&mut self, k: f64) {
+        self.radius = self.focal_length / (2.0 * k);
+    }
 }
 
 /// The camera's orthonormal basis u, v, n in `f64` (n = −look, u = up × n).
@@ -172,7 +252,7 @@ impl<S: Scalar> Camera<S> {
     }
 
     /// The next lens point (Q1.15, within the unit circle) from a pixel's
-    /// register, uniform on the aperture: integers only, as [`Camera::lens_ray_from`] takes it.
+    /// register, uniform on the aperture: integers only, as [`CameraSample::lens`] takes it.
     #[inline]
     pub fn lens_sample(&self, lfsr: &mut Lfsr) -> (i32, i32) {
         self.aperture.sample(lfsr)
@@ -201,7 +281,7 @@ impl<S: Scalar> Camera<S> {
     }
 
     /// The world direction of pixel (`col`, `row`)'s chief ray, exactly:
-    /// what [`Camera::chief_ray_from`] and [`Camera::lens_ray_from`] take.
+    /// what [`CameraSample::film`] takes.
     #[inline]
     pub fn film_point(&self, col: u32, row: u32) -> FilmPoint<S> {
         let (i, j) = Self::doubled(col, row);
@@ -210,10 +290,21 @@ impl<S: Scalar> Camera<S> {
         }
     }
 
+    /// The camera's one ray-making entry: the ray of `sample`, whose lens
+    /// point was drawn outside (by the renderer's sampler), so the camera
+    /// holds no random state.
+    #[inline]
+    pub fn generate_ray(&self, sample: &CameraSample<'_, S>) -> Ray<S> {
+        match sample.lens {
+            None => self.chief_ray_from(sample.film),
+            Some(lens) => self.lens_ray_from(sample.film, lens),
+        }
+    }
+
     /// The chief ray of a pixel: from the lens centre E through its film point
     /// (`−N n + u_c u + v_r v`), normalised.
     #[inline]
-    pub fn chief_ray_from(&self, f: &FilmPoint<S>) -> Ray<S> {
+    fn chief_ray_from(&self, f: &FilmPoint<S>) -> Ray<S> {
         // The lens centre adds nothing: sample (0, 0).
         let (precise, dir) = S::film_ray_dir(&self.map, &f.film, (0, 0));
         Ray {
@@ -226,7 +317,7 @@ impl<S: Scalar> Camera<S> {
     /// The ray from the lens point `lens = (s_x, s_y)` (Q1.15, on the unit disk)
     /// towards the pixel's point in focus.
     #[inline]
-    pub fn lens_ray_from(&self, f: &FilmPoint<S>, lens: (i32, i32)) -> Ray<S> {
+    fn lens_ray_from(&self, f: &FilmPoint<S>, lens: (i32, i32)) -> Ray<S> {
         let (sx, sy) = (S::from_q15(lens.0), S::from_q15(lens.1));
         // p_focus − p_lens, divided by m: p_film − p_lens / m, in world space.
         let (precise, dir) = S::film_ray_dir(&self.map, &f.film, lens);
@@ -239,7 +330,19 @@ impl<S: Scalar> Camera<S> {
     }
 }
 
-/// A pixel's chief-ray direction in world space, exact (see [`crate::film`]):
+/// What one camera ray is made from: a pixel's film point and where on the
+/// lens the ray leaves.
+#[derive(Copy, Clone, Debug)]
+pub struct CameraSample<'a, S: Scalar> {
+    /// The pixel's film point ([`Camera::film_point`]), shared by its rays.
+    pub film: &'a FilmPoint<S>,
+    /// The lens point `(s_x, s_y)` (Q1.15, on the unit disk; see
+    /// [`Camera::lens_sample`]), or `None` for the chief ray through the lens
+    /// centre (a pinhole's only ray).
+    pub lens: Option<(i32, i32)>,
+}
+
+/// A pixel's chief-ray direction in world space, exact (see [`crate::number::film`]):
 /// computed once per pixel and shared by its lens samples.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct FilmPoint<S: Scalar> {
@@ -256,7 +359,10 @@ mod tests {
         let params = CameraParams::default();
         // An odd size has a pixel whose centre is the film's centre.
         let cam = Camera::<I16F16>::new(&params, 641, 481);
-        let ray = cam.chief_ray_from(&cam.film_point(320, 240));
+        let ray = cam.generate_ray(&CameraSample {
+            film: &cam.film_point(320, 240),
+            lens: None,
+        });
         let d = ray.dir.to_f64();
         assert!(
             d[0].abs() < 1e-4 && d[1].abs() < 1e-4 && (d[2] + 1.0).abs() < 1e-4,
@@ -276,7 +382,13 @@ mod tests {
         assert!((f[1] - (p * 240.0 - p / 2.0)).abs() < 1e-6);
         assert_eq!(f[2], -8.0);
         // The picture is upright: row 0 looks up, column 0 looks left.
-        let d = cam.chief_ray_from(&cam.film_point(0, 0)).dir.to_f64();
+        let d = cam
+            .generate_ray(&CameraSample {
+                film: &cam.film_point(0, 0),
+                lens: None,
+            })
+            .dir
+            .to_f64();
         assert!(d[0] < 0.0 && d[1] > 0.0);
     }
 
@@ -290,7 +402,10 @@ mod tests {
         assert_eq!(params.focus_depth(), 8.0);
         let cam = Camera::<I16F16>::new(&params, 160, 120);
         let film = cam.film_point(30, 100);
-        let chief = cam.chief_ray_from(&film);
+        let chief = cam.generate_ray(&CameraSample {
+            film: &film,
+            lens: None,
+        });
         // Where the chief ray reaches z = −8.
         let at_focus = |r: Ray<I16F16>| {
             let (o, d) = (r.origin.to_f64(), r.dir.to_f64());
@@ -299,7 +414,10 @@ mod tests {
         };
         let target = at_focus(chief);
         for lens in [(32767, 0), (-20000, 20000), (0, -32000), (1000, 2000)] {
-            let r = cam.lens_ray_from(&film, lens);
+            let r = cam.generate_ray(&CameraSample {
+                film: &film,
+                lens: Some(lens),
+            });
             let o = r.origin.to_f64();
             assert!((o[0] * o[0] + o[1] * o[1]).sqrt() <= 0.4 + 1e-4);
             let hit = at_focus(r);
@@ -309,7 +427,10 @@ mod tests {
             );
         }
         // And they do not meet at another depth: at z = −4 they spread out.
-        let r = cam.lens_ray_from(&film, (32767, 0));
+        let r = cam.generate_ray(&CameraSample {
+            film: &film,
+            lens: Some((32767, 0)),
+        });
         let (o, d) = (r.origin.to_f64(), r.dir.to_f64());
         let t = (-4.0 - o[2]) / d[2];
         let (c, cd) = (chief.origin.to_f64(), chief.dir.to_f64());

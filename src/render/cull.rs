@@ -9,9 +9,9 @@
 //! bounding sphere, a dozen products, becomes `d · axis < cos θ` for the
 //! objects the ray misses by a wide margin: most of them, for most rays.
 
-use crate::scalar::Scalar;
+use crate::geometry::vec3::Vec3;
+use crate::number::Scalar;
 use crate::scene::{Scene, MAX_OBJECTS};
-use crate::vec3::Vec3;
 
 /// The cone of directions from the lens that can reach one object.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -24,8 +24,8 @@ struct Cone<S> {
     always: bool,
 }
 
-impl<S: crate::baked::Field> crate::baked::Field for Cone<S> {
-    crate::baked::baked_fields!(Cone { axis, cos_min, always });
+impl<S: crate::bytes::Field> crate::bytes::Field for Cone<S> {
+    crate::bytes::baked_fields!(Cone { axis, cos_min, always });
 }
 
 /// The lens's cones for every object of a scene, in the scene's order.
@@ -34,8 +34,8 @@ pub struct LensCones<S: Scalar> {
     cones: heapless::Vec<Cone<S>, MAX_OBJECTS>,
 }
 
-impl<S: Scalar + crate::baked::Field> crate::baked::Field for LensCones<S> {
-    crate::baked::baked_fields!(LensCones { cones });
+impl<S: Scalar + crate::bytes::Field> crate::bytes::Field for LensCones<S> {
+    crate::bytes::baked_fields!(LensCones { cones });
 }
 
 /// Slack on `cos θ` for the rounding of the direction, the axis and their dot

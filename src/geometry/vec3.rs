@@ -3,7 +3,7 @@
 //! The operators follow the [`Scalar`] rules: they saturate in Q16.16 and never
 //! panic.
 
-use crate::scalar::Scalar;
+use crate::number::Scalar;
 use core::ops::{Add, Mul, Neg, Sub};
 
 /// A point, direction, normal or colour with three components.
@@ -115,4 +115,8 @@ impl<S: Scalar> Mul<S> for Vec3<S> {
     fn mul(self, k: S) -> Self {
         Vec3::new(self.x.mul(k), self.y.mul(k), self.z.mul(k))
     }
+}
+
+impl<S: crate::bytes::Field> crate::bytes::Field for Vec3<S> {
+    crate::bytes::baked_fields!(Vec3 { x, y, z });
 }

@@ -10,8 +10,9 @@
 //! Everything here is `f64` and runs once per scene, so the Q16.16 renderer
 //! and the f32 reference get the very same focal length.
 
-use crate::scene::{CameraParams, ObjectDesc};
-use crate::shape::Shape;
+use crate::camera::CameraParams;
+use crate::scene::shape::Shape;
+use crate::scene::ObjectDesc;
 
 /// Rays parameters below this (in units of |C − E|) are not hits: the lens
 /// centre itself touching a surface does not focus at distance 0.
@@ -149,7 +150,7 @@ fn quadratic(a: f64, b: f64, c: f64) -> [f64; 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::transform::Mat34;
+    use crate::geometry::transform::Mat34;
 
     fn desc(shape: Shape, to_world: Mat34) -> ObjectDesc {
         ObjectDesc {

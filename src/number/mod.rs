@@ -18,11 +18,15 @@
 //! * Set-up conversions (`from_f64`) round to nearest; they run once per scene.
 //! * The Q16.16 per-ray operations use only integer instructions.
 
-use crate::film::{FilmMapDesc, FixedFilmMap, FloatFilmMap};
-use crate::wide::{
+use crate::number::film::{FilmMapDesc, FixedFilmMap, FloatFilmMap};
+use crate::number::wide::{
     bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i64, mul_u32, mul_u64, sar64, Recip,
 };
 use fixed::types::I16F16;
+
+pub mod film;
+pub(crate) mod plane;
+pub(crate) mod wide;
 
 mod sealed {
     pub trait Sealed {}
@@ -33,7 +37,7 @@ mod sealed {
 /// The number type of a renderer: Q16.16 [`I16F16`] or `f32`.
 ///
 /// See the [module docs](self) for the rules all implementations follow.
-pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::Sealed + 'static {
+pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::Sealed + Kernels + 'static {
     /// 0.
     const ZERO: Self;
     /// 1.
@@ -42,15 +46,9 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     const MAX: Self;
     /// Smallest ray parameter that counts as a hit (about 2⁻¹⁰ world units):
     /// keeps a reflected or shadow ray from hitting the surface it left.
-    const EPSILON: Self;
+    const HIT_EPSILON: Self;
     /// Short human name of the number type ("Q16.16", "f32").
     const NAME: &'static str;
-
-    /// One row of an affine matrix, stored more precisely than `Self`
-    /// (Q16.16 keeps up to 30 fraction bits; see [`Scalar::row_from_f64`]).
-    type Row: Copy + core::fmt::Debug + Send + Sync;
-    /// Accumulator for sums of many colours (a pixel's samples).
-    type Acc: Copy + core::fmt::Debug + Send + Sync;
 
     /// Rounds an `f64` to the nearest value of this type, saturating. Set-up only.
     fn from_f64(x: f64) -> Self;
@@ -82,74 +80,6 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     /// The largest integer not above `self`.
     fn floor_i32(self) -> i32;
 
-    /// Length of a 3-vector, computed without intermediate overflow.
-    fn length3(v: [Self; 3]) -> Self;
-    /// Unit vector along `v`, and the length of `v`. A zero vector gives zero.
-    fn normalize3(v: [Self; 3]) -> ([Self; 3], Self);
-    /// `|v|² <= r²`, decided exactly (no intermediate overflow).
-    fn within(v: [Self; 3], r: Self) -> bool;
-    /// `a · b > 0`, decided exactly for Q16.16 (no rounding, no saturation).
-    fn dot_positive(a: [Self; 3], b: [Self; 3]) -> bool;
-
-    /// Builds a matrix row `(a, b, c, t)` from its exact `f64` entries.
-    fn row_from_f64(r: [f64; 4]) -> Self::Row;
-    /// `a·x + b·y + c·z (+ t if affine)`, with one rounding at the end.
-    fn row_apply(row: &Self::Row, v: [Self; 3], affine: bool) -> Self;
-
-    /// The direction `M v` for the three rows of a matrix, as a unit vector
-    /// with its length `|M v|` and, where that is below 1, the reciprocal
-    /// `1 / |M v|` (0 otherwise), all from the exact product: a large scale
-    /// (rows of 1/2000) keeps its precision, where rounding `M v` to `Self`
-    /// first would leave it a few bits. A zero result gives zeros.
-    fn rows_apply_unit(rows: &[Self::Row; 3], v: [Self; 3]) -> ([Self; 3], Self, Self);
-
-    /// A ray direction held more precisely than three `Self` values (Q16.16:
-    /// 31-bit mantissas with a shared power of two), for the unbounded plane,
-    /// whose hits along a grazing ray move by the ray's direction error times
-    /// the square of the distance.
-    type Dir: Copy + core::fmt::Debug + PartialEq + Send + Sync;
-    /// A vector as a precise direction, exactly.
-    fn dir_from(v: [Self; 3]) -> Self::Dir;
-    /// A camera's exact map from pixels to its rays' directions (see [`crate::film`]).
-    type FilmMap: Copy + core::fmt::Debug + Send + Sync;
-    /// A pixel's chief direction as the film map gives it, before the lens.
-    type Film: Copy + core::fmt::Debug + PartialEq + Send + Sync;
-    /// Rounds a film map's exact parts. Set-up only.
-    fn film_map(desc: &FilmMapDesc) -> Self::FilmMap;
-    /// The chief direction `D(i, j)` of the doubled pixel centre (i, j).
-    fn film_dir(map: &Self::FilmMap, i: i32, j: i32) -> Self::Film;
-    /// The unit direction along the film direction tilted by a lens sample
-    /// (Q1.15; (0, 0) for the chief ray): precise, marked unit, and rounded.
-    fn film_ray_dir(map: &Self::FilmMap, film: &Self::Film, lens: (i32, i32)) -> (Self::Dir, [Self; 3]);
-    /// Where the world ray `o + t d` meets the object-space plane z = 0 of an
-    /// object whose world → object matrix has these rows, for `t_min < t < t_max`:
-    /// `(t, x, y)`, t the world distance in units of |d| (a unit direction
-    /// marked so needs no square root) and (x, y, 0) the object-space point.
-    fn plane_hit(
-        rows: &[Self::Row; 3],
-        o: [Self; 3],
-        d: Self::Dir,
-        t_min: Self,
-        t_max: Self,
-    ) -> Option<(Self, Self, Self)>;
-
-    /// The empty accumulator.
-    fn acc_zero() -> Self::Acc;
-    /// `acc + x`.
-    fn acc_add(acc: Self::Acc, x: Self) -> Self::Acc;
-    /// `acc / n`, saturating (n > 0).
-    fn acc_mean(acc: Self::Acc, n: u32) -> Self;
-
-    /// A colour channel clamped to [0, 1] and rounded to 8 bits: `round(255 v)`.
-    fn to_u8(self) -> u8;
-
-    /// A colour channel in 8-bit levels, unclamped above white: `⌊255 v⌋`
-    /// clamped to 0..=65535 (what adaptive sampling's statistics count).
-    #[inline]
-    fn to_level(self) -> u32 {
-        self.mul(Self::from_i32(255)).floor_i32().clamp(0, 65535) as u32
-    }
-
     /// `min(self, o)`.
     #[inline]
     fn min(self, o: Self) -> Self {
@@ -170,6 +100,89 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     }
 }
 
+/// Sealed: `Kernels` is public in a private module, so outside the crate it
+/// can be neither named nor implemented (heapless's `LenType` pattern).
+mod kernels {
+    use super::*;
+
+    /// The machinery behind [`Scalar`]: exact matrix rows, precise directions,
+    /// the film map and the plane, accumulators. Sealed (its module is private),
+    /// so it can change without breaking the public trait.
+    pub trait Kernels: Copy + Sized {
+        /// One row of an affine matrix, stored more precisely than `Self`
+        /// (Q16.16 keeps up to 30 fraction bits; see `Kernels::row_from_f64`).
+        type Row: Copy + core::fmt::Debug + Send + Sync;
+        /// Accumulator for sums of many colours (a pixel's samples).
+        type Acc: Copy + core::fmt::Debug + Send + Sync;
+
+        /// Length of a 3-vector, computed without intermediate overflow.
+        fn length3(v: [Self; 3]) -> Self;
+        /// Unit vector along `v`, and the length of `v`. A zero vector gives zero.
+        fn normalize3(v: [Self; 3]) -> ([Self; 3], Self);
+        /// `|v|² <= r²`, decided exactly (no intermediate overflow).
+        fn within(v: [Self; 3], r: Self) -> bool;
+        /// `a · b > 0`, decided exactly for Q16.16 (no rounding, no saturation).
+        fn dot_positive(a: [Self; 3], b: [Self; 3]) -> bool;
+
+        /// Builds a matrix row `(a, b, c, t)` from its exact `f64` entries.
+        fn row_from_f64(r: [f64; 4]) -> Self::Row;
+        /// `a·x + b·y + c·z (+ t if affine)`, with one rounding at the end.
+        fn row_apply(row: &Self::Row, v: [Self; 3], affine: bool) -> Self;
+
+        /// The direction `M v` for the three rows of a matrix, as a unit vector
+        /// with its length `|M v|` and, where that is below 1, the reciprocal
+        /// `1 / |M v|` (0 otherwise), all from the exact product: a large scale
+        /// (rows of 1/2000) keeps its precision, where rounding `M v` to `Self`
+        /// first would leave it a few bits. A zero result gives zeros.
+        fn rows_apply_unit(rows: &[Self::Row; 3], v: [Self; 3]) -> ([Self; 3], Self, Self);
+
+        /// A ray direction held more precisely than three `Self` values (Q16.16:
+        /// 31-bit mantissas with a shared power of two), for the unbounded plane,
+        /// whose hits along a grazing ray move by the ray's direction error times
+        /// the square of the distance.
+        type Dir: Copy + core::fmt::Debug + PartialEq + Send + Sync;
+        /// A vector as a precise direction, exactly.
+        fn dir_from(v: [Self; 3]) -> Self::Dir;
+        /// A camera's exact map from pixels to its rays' directions (see [`crate::number::film`]).
+        type FilmMap: Copy + core::fmt::Debug + Send + Sync;
+        /// A pixel's chief direction as the film map gives it, before the lens.
+        type Film: Copy + core::fmt::Debug + PartialEq + Send + Sync;
+        /// Rounds a film map's exact parts. Set-up only.
+        fn film_map(desc: &FilmMapDesc) -> Self::FilmMap;
+        /// The chief direction `D(i, j)` of the doubled pixel centre (i, j).
+        fn film_dir(map: &Self::FilmMap, i: i32, j: i32) -> Self::Film;
+        /// The unit direction along the film direction tilted by a lens sample
+        /// (Q1.15; (0, 0) for the chief ray): precise, marked unit, and rounded.
+        fn film_ray_dir(map: &Self::FilmMap, film: &Self::Film, lens: (i32, i32)) -> (Self::Dir, [Self; 3]);
+        /// Where the world ray `o + t d` meets the object-space plane z = 0 of an
+        /// object whose world → object matrix has these rows, for `t_min < t < t_max`:
+        /// `(t, x, y)`, t the world distance in units of |d| (a unit direction
+        /// marked so needs no square root) and (x, y, 0) the object-space point.
+        fn plane_hit(
+            rows: &[Self::Row; 3],
+            o: [Self; 3],
+            d: Self::Dir,
+            t_min: Self,
+            t_max: Self,
+        ) -> Option<(Self, Self, Self)>;
+
+        /// The empty accumulator.
+        fn acc_zero() -> Self::Acc;
+        /// `acc + x`.
+        fn acc_add(acc: Self::Acc, x: Self) -> Self::Acc;
+        /// `acc / n`, saturating (n > 0).
+        fn acc_mean(acc: Self::Acc, n: u32) -> Self;
+
+        /// A colour channel clamped to [0, 1] and rounded to 8 bits: `round(255 v)`.
+        fn to_u8(self) -> u8;
+
+        /// A colour channel in 8-bit levels, unclamped above white: `⌊255 v⌋`
+        /// clamped to 0..=65535 (what adaptive sampling's statistics count).
+        fn to_level(self) -> u32;
+    }
+}
+pub(crate) use kernels::Kernels;
+
 /// Q16.16 matrix row: entries `m[i] · 2^-shift` with `|m[i]| <= 2^30`, and the
 /// translation at scale `2^(shift + 16)`, so `row · v` is an exact i64 sum.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -179,11 +192,11 @@ pub struct FixedRow {
     pub(crate) shift: u32,
 }
 
-impl crate::baked::Field for FixedRow {
-    crate::baked::baked_fields!(FixedRow { m, t, shift }, check(row) {
+impl crate::bytes::Field for FixedRow {
+    crate::bytes::baked_fields!(FixedRow { m, t, shift }, check(row) {
         // The kernels' exact i64 sums need these bounds.
         if row.shift > 30 || row.m.iter().any(|x| x.unsigned_abs() > 1 << 30) || row.t.unsigned_abs() > 1 << 60 {
-            return Err(crate::baked::BakeError::OutOfRange("matrix row beyond its scale"));
+            return Err(crate::bytes::BakeError::OutOfRange("matrix row beyond its scale"));
         }
     });
 }
@@ -426,12 +439,8 @@ impl Scalar for I16F16 {
     const ZERO: Self = I16F16::ZERO;
     const ONE: Self = I16F16::ONE;
     const MAX: Self = I16F16::MAX;
-    const EPSILON: Self = I16F16::from_bits(64);
+    const HIT_EPSILON: Self = I16F16::from_bits(64);
     const NAME: &'static str = "Q16.16";
-    type Row = FixedRow;
-    type Acc = i64;
-    type Dir = FixedDir;
-
     fn from_f64(x: f64) -> Self {
         let r = x * 65536.0;
         // NaN maps to 0; everything else rounds to nearest and saturates.
@@ -535,6 +544,13 @@ impl Scalar for I16F16 {
     fn floor_i32(self) -> i32 {
         self.to_bits() >> 16
     }
+}
+
+impl Kernels for I16F16 {
+    type Row = FixedRow;
+    type Acc = i64;
+    type Dir = FixedDir;
+
     fn length3(v: [Self; 3]) -> Self {
         let s: u64 = v
             .iter()
@@ -709,7 +725,7 @@ impl Scalar for I16F16 {
         t_min: Self,
         t_max: Self,
     ) -> Option<(Self, Self, Self)> {
-        crate::plane::plane_hit(rows, o, d, t_min, t_max)
+        crate::number::plane::plane_hit(rows, o, d, t_min, t_max)
     }
     #[inline]
     fn acc_zero() -> i64 {
@@ -780,15 +796,8 @@ impl Scalar for f32 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const MAX: Self = f32::MAX;
-    const EPSILON: Self = 1.0 / 1024.0;
+    const HIT_EPSILON: Self = 1.0 / 1024.0;
     const NAME: &'static str = "f32";
-    type Row = [f32; 4];
-    /// f64, so that summing many samples adds no error of its own (the Q16.16
-    /// sum is exact in i64): an f32 sum of seventy 0.1s lands below 7 and turns
-    /// a colour of exactly 25.5 levels into 25 instead of 26.
-    type Acc = f64;
-    type Dir = [f32; 3];
-
     fn from_f64(x: f64) -> Self {
         x as f32
     }
@@ -857,6 +866,16 @@ impl Scalar for f32 {
     fn floor_i32(self) -> i32 {
         libm::floorf(self) as i32
     }
+}
+
+impl Kernels for f32 {
+    type Row = [f32; 4];
+    /// f64, so that summing many samples adds no error of its own (the Q16.16
+    /// sum is exact in i64): an f32 sum of seventy 0.1s lands below 7 and turns
+    /// a colour of exactly 25.5 levels into 25 instead of 26.
+    type Acc = f64;
+    type Dir = [f32; 3];
+
     fn length3(v: [Self; 3]) -> Self {
         Scalar::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
     }
@@ -918,18 +937,7 @@ impl Scalar for f32 {
         t_min: Self,
         t_max: Self,
     ) -> Option<(Self, Self, Self)> {
-        let ld = rows.map(|r| Self::row_apply(&r, d, false));
-        if ld[2] == 0.0 {
-            return None;
-        }
-        let lo = rows.map(|r| Self::row_apply(&r, o, true));
-        // s in units of ld, t in world units.
-        let s = -lo[2] / ld[2];
-        let t = s * Self::length3(d);
-        if !(t > t_min && t < t_max) {
-            return None;
-        }
-        Some((t, lo[0] + ld[0] * s, lo[1] + ld[1] * s))
+        crate::number::plane::plane_hit_f32(rows, o, d, t_min, t_max)
     }
     #[inline]
     fn acc_zero() -> f64 {
@@ -952,6 +960,45 @@ impl Scalar for f32 {
             0.0
         };
         (v * 255.0 + 0.5) as u8
+    }
+    #[inline]
+    fn to_level(self) -> u32 {
+        <f32 as Scalar>::mul(self, <f32 as Scalar>::from_i32(255))
+            .floor_i32()
+            .clamp(0, 65535) as u32
+    }
+}
+
+/// A number type whose renderers can be baked: [`I16F16`] and `f32`. Its
+/// matrix rows and film map have baked forms too.
+pub trait BakeScalar:
+    Scalar<Row = <Self as BakeScalar>::BakedRow, FilmMap = <Self as BakeScalar>::BakedFilmMap> + crate::bytes::Field
+{
+    /// The number type's tag in the header: 0 Q16.16, 1 f32.
+    const TAG: u8;
+    /// `Kernels::Row`.
+    type BakedRow: crate::bytes::Field + Copy + core::fmt::Debug + Send + Sync;
+    /// `Kernels::FilmMap`.
+    type BakedFilmMap: crate::bytes::Field + Copy + core::fmt::Debug + Send + Sync;
+    /// Whether the film map's integer kernels stay in range for this image size.
+    fn film_map_fits(map: &Self::BakedFilmMap, cols: u32, rows: u32) -> bool;
+}
+
+impl BakeScalar for I16F16 {
+    const TAG: u8 = 0;
+    type BakedRow = crate::number::FixedRow;
+    type BakedFilmMap = crate::number::film::FixedFilmMap;
+    fn film_map_fits(map: &Self::BakedFilmMap, cols: u32, rows: u32) -> bool {
+        map.fits(cols, rows)
+    }
+}
+
+impl BakeScalar for f32 {
+    const TAG: u8 = 1;
+    type BakedRow = [f32; 4];
+    type BakedFilmMap = crate::number::film::FloatFilmMap;
+    fn film_map_fits(_: &Self::BakedFilmMap, _: u32, _: u32) -> bool {
+        true
     }
 }
 
@@ -1066,7 +1113,7 @@ mod dot_sign_tests {
             let exact: i128 = (0..3).map(|i| a[i] as i128 * b[i] as i128).sum();
             assert_eq!(exact > 0, want, "{a:?} · {b:?}");
             assert_eq!(
-                <I16F16 as Scalar>::dot_positive(a.map(q), b.map(q)),
+                <I16F16 as Kernels>::dot_positive(a.map(q), b.map(q)),
                 want,
                 "{a:?} · {b:?}"
             );
@@ -1082,7 +1129,7 @@ mod dot_sign_tests {
             let (a, b) = ([next(), next(), next()], [next(), next(), next()]);
             let exact: i128 = (0..3).map(|i| a[i] as i128 * b[i] as i128).sum();
             assert_eq!(
-                <I16F16 as Scalar>::dot_positive(a.map(q), b.map(q)),
+                <I16F16 as Kernels>::dot_positive(a.map(q), b.map(q)),
                 exact > 0,
                 "{a:?} · {b:?}"
             );

@@ -1,8 +1,8 @@
 //! Affine transforms: exact `f64` matrices at set-up, precise [`Scalar`] rows
 //! on the per-ray path.
 
-use crate::scalar::Scalar;
-use crate::vec3::Vec3;
+use crate::geometry::vec3::Vec3;
+use crate::number::Scalar;
 
 /// A 3×4 affine matrix in `f64`, built once per scene (parser, camera).
 ///
@@ -129,8 +129,8 @@ pub struct Affine<S: Scalar> {
     rows: [S::Row; 3],
 }
 
-impl<S: crate::baked::BakeScalar> crate::baked::Field for Affine<S> {
-    crate::baked::baked_fields!(Affine { rows });
+impl<S: crate::number::BakeScalar> crate::bytes::Field for Affine<S> {
+    crate::bytes::baked_fields!(Affine { rows });
 }
 
 impl<S: Scalar> Affine<S> {
@@ -164,7 +164,7 @@ impl<S: Scalar> Affine<S> {
     }
 
     /// Transforms a direction to a unit vector, with the transformed length
-    /// and its reciprocal, at full precision (see [`Scalar::rows_apply_unit`]).
+    /// and its reciprocal, at full precision (see `Kernels::rows_apply_unit`).
     #[inline]
     pub fn vector_unit(&self, v: Vec3<S>) -> (Vec3<S>, S, S) {
         let (u, len, inv) = S::rows_apply_unit(&self.rows, v.to_array());
@@ -172,7 +172,7 @@ impl<S: Scalar> Affine<S> {
     }
 
     /// Where the world ray `o + t d` meets this object's plane z = 0 (see
-    /// [`Scalar::plane_hit`]), for `t_min < t < t_max`.
+    /// `Kernels::plane_hit`), for `t_min < t < t_max`.
     #[inline]
     pub fn plane_hit(&self, o: Vec3<S>, d: S::Dir, t_min: S, t_max: S) -> Option<(S, S, S)> {
         S::plane_hit(&self.rows, o.to_array(), d, t_min, t_max)

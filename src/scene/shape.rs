@@ -5,10 +5,11 @@
 //! object's centre: the caller re-origins the ray at its object's bounding
 //! sphere first (see `Object::intersect` in [`crate::scene`]). Every square and
 //! product then stays small, which is what keeps Q16.16 accurate and in range.
-//! The plane is unbounded and takes any ray.
+//! The plane is unbounded and takes any origin. Every shape's `t` is a
+//! distance along the unit direction.
 
-use crate::scalar::Scalar;
-use crate::vec3::Vec3;
+use crate::geometry::vec3::Vec3;
+use crate::number::Scalar;
 
 /// A shape of the scene format, in its object space.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -71,11 +72,27 @@ impl Shape {
     /// The nearest hit with `t_min < t < t_max` of the ray `o + t d`.
     ///
     /// For bounded shapes `d` must be a unit vector and `o` near the shape (see
-    /// the module docs); the plane takes any `o` and `d`.
+    /// the module docs); the plane takes any `o`.
     pub fn intersect<S: Scalar>(self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
         match self {
-            Shape::Sphere => sphere(o, d, t_min, t_max),
             Shape::Plane => plane(o, d, t_min, t_max),
+            _ => self.intersect_bounded(o, d, t_min, t_max),
+        }
+    }
+
+    /// [`Shape::intersect`] for the bounded shapes, `None` for the plane: what
+    /// an object past its bounding sphere calls (it meets planes through their
+    /// world rows), so the renderer carries no second way into the plane.
+    pub(crate) fn intersect_bounded<S: Scalar>(
+        self,
+        o: Vec3<S>,
+        d: Vec3<S>,
+        t_min: S,
+        t_max: S,
+    ) -> Option<LocalHit<S>> {
+        match self {
+            Shape::Sphere => sphere(o, d, t_min, t_max),
+            Shape::Plane => None,
             Shape::Cube => cube(o, d, t_min, t_max),
             Shape::Cylinder => cylinder(o, d, t_min, t_max),
             Shape::Cone => cone(o, d, t_min, t_max),
@@ -113,19 +130,15 @@ fn sphere<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<Local
     Some(LocalHit { t, p, n: p })
 }
 
+/// The plane z = 0 through the number type's one plane intersection
+/// (`Kernels::plane_hit`, which rendering reaches through the object's rows),
+/// here with identity rows.
 fn plane<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
-    if d.z == S::ZERO {
-        return None;
-    }
-    let t = o.z.neg().div(d.z);
-    if !inside(t, t_min, t_max) {
-        return None;
-    }
-    // On the plane by construction: z is exactly 0.
-    let p = Vec3::new(o.x.add(d.x.mul(t)), o.y.add(d.y.mul(t)), S::ZERO);
+    let rows = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]].map(S::row_from_f64);
+    let (t, x, y) = S::plane_hit(&rows, o.to_array(), S::dir_from(d.to_array()), t_min, t_max)?;
     Some(LocalHit {
         t,
-        p,
+        p: Vec3::new(x, y, S::ZERO),
         n: Vec3::new(S::ZERO, S::ZERO, S::ONE),
     })
 }
@@ -226,7 +239,7 @@ fn side_hit<S: Scalar>(
 
 /// `|a|` below about 2⁻¹²: treated as zero for a quadratic's leading term.
 fn negligible<S: Scalar>(a: S) -> bool {
-    a.abs() < S::EPSILON.mul(S::from_q15(2048))
+    a.abs() < S::HIT_EPSILON.mul(S::from_q15(2048))
 }
 
 fn cylinder<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
@@ -278,6 +291,33 @@ fn cone<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHi
     nearer(best, cap(o, d, S::ONE.neg(), t_min, t_max))
 }
 
+impl crate::bytes::Field for Shape {
+    fn put(&self, w: &mut crate::bytes::Writer<'_>) {
+        let tag: u8 = match self {
+            Shape::Sphere => 0,
+            Shape::Plane => 1,
+            Shape::Cube => 2,
+            Shape::Cylinder => 3,
+            Shape::Cone => 4,
+        };
+        tag.put(w);
+    }
+    fn take(&mut self, r: &mut crate::bytes::Reader<'_>) -> Result<(), crate::bytes::BakeError> {
+        *self = match r.array::<1>()?[0] {
+            0 => Shape::Sphere,
+            1 => Shape::Plane,
+            2 => Shape::Cube,
+            3 => Shape::Cylinder,
+            4 => Shape::Cone,
+            _ => return Err(crate::bytes::BakeError::OutOfRange("unknown shape")),
+        };
+        Ok(())
+    }
+    fn blank() -> Self {
+        Shape::Sphere
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -290,9 +330,19 @@ mod tests {
     /// Runs a ray in both number types and returns (t, p, n) as f64.
     fn hit_both(shape: Shape, o: [f64; 3], d: [f64; 3]) -> Option<(f64, [f64; 3], [f64; 3])> {
         let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        let d = if shape == Shape::Plane { d } else { d.map(|x| x / len) };
-        let hf = shape.intersect::<f32>(v(o[0], o[1], o[2]), v(d[0], d[1], d[2]), f32::EPSILON_HIT, f32::MAX);
-        let hx = shape.intersect::<I16F16>(v(o[0], o[1], o[2]), v(d[0], d[1], d[2]), I16F16::EPSILON, I16F16::MAX);
+        let d = d.map(|x| x / len);
+        let hf = shape.intersect::<f32>(
+            v(o[0], o[1], o[2]),
+            v(d[0], d[1], d[2]),
+            <f32 as Scalar>::HIT_EPSILON,
+            f32::MAX,
+        );
+        let hx = shape.intersect::<I16F16>(
+            v(o[0], o[1], o[2]),
+            v(d[0], d[1], d[2]),
+            I16F16::HIT_EPSILON,
+            I16F16::MAX,
+        );
         assert_eq!(
             hf.is_some(),
             hx.is_some(),
@@ -304,13 +354,6 @@ mod tests {
             assert!((a - b).abs() < 1e-3, "p {hf:?} vs {hx:?}");
         }
         Some((hf.t.to_f64(), hf.p.to_f64(), hf.n.to_f64()))
-    }
-
-    trait Eps {
-        const EPSILON_HIT: Self;
-    }
-    impl Eps for f32 {
-        const EPSILON_HIT: f32 = <f32 as Scalar>::EPSILON;
     }
 
     fn unit(n: [f64; 3]) -> [f64; 3] {
@@ -347,7 +390,7 @@ mod tests {
         let (t, p, n) = hit_both(Shape::Plane, [0.5, 0.25, 2.0], [0.0, 0.0, -1.0]).unwrap();
         assert!((t - 2.0).abs() < 1e-4 && p[2] == 0.0 && n == [0.0, 0.0, 1.0]);
         let (t, _, _) = hit_both(Shape::Plane, [0.0, 0.0, -4.0], [0.0, 0.0, 2.0]).unwrap();
-        assert!((t - 2.0).abs() < 1e-4, "t is in units of the direction");
+        assert!((t - 4.0).abs() < 1e-4, "t is a distance along the unit direction");
         assert!(hit_both(Shape::Plane, [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]).is_none());
         // Grazing: almost parallel (values exact in Q16.16), still hits on z = 0.
         let (t, p, _) = hit_both(Shape::Plane, [0.0, 0.0, 1.0 / 128.0], [1.0, 0.0, -1.0 / 1024.0]).unwrap();

@@ -17,8 +17,8 @@
 //! pentagon, 32 % for a triangle, so a triangle needs 2.4 times the disk's
 //! draws per sample; next to tracing the sample's ray, that is small.
 
-use crate::lfsr::Lfsr;
-use crate::transform::sin_cos_degrees;
+use crate::camera::lfsr::Lfsr;
+use crate::geometry::transform::sin_cos_degrees;
 
 /// Most aperture blades (`aperture_blades`): beyond this a polygon is round to
 /// the eye, and the edges live in a fixed array.
@@ -43,16 +43,16 @@ pub struct Aperture {
     corners: [(i16, i16); MAX_BLADES as usize],
 }
 
-impl crate::baked::Field for Aperture {
-    crate::baked::baked_fields!(Aperture { blades, edges, inradius, corners }, check(ap) {
+impl crate::bytes::Field for Aperture {
+    crate::bytes::baked_fields!(Aperture { blades, edges, inradius, corners }, check(ap) {
         if ap.blades != 0 && !(3..=MAX_BLADES as u8).contains(&ap.blades) {
-            return Err(crate::baked::BakeError::OutOfRange("aperture blades not 0 or 3..=16"));
+            return Err(crate::bytes::BakeError::OutOfRange("aperture blades not 0 or 3..=16"));
         }
         // |a x + b y| <= 2^30 needs unit normals in Q1.14, and c within that range.
         if ap.edges.iter().any(|&(a, b)| a.unsigned_abs() > 1 << 14 || b.unsigned_abs() > 1 << 14)
             || ap.inradius.unsigned_abs() > 1 << 30
         {
-            return Err(crate::baked::BakeError::OutOfRange("aperture edge beyond Q1.14"));
+            return Err(crate::bytes::BakeError::OutOfRange("aperture edge beyond Q1.14"));
         }
     });
 }

@@ -1,0 +1,125 @@
+//! Tracing: the nearest hit along a ray, shadow rays and the Phong colour a
+//! ray sees, over a scene's data ([`Scene`]); camera rays skip what the lens
+//! cannot reach ([`LensCones`]).
+
+use crate::geometry::ray::Ray;
+use crate::geometry::vec3::Vec3;
+use crate::number::Scalar;
+use crate::render::cull::LensCones;
+use crate::scene::{Hit, Scene};
+
+impl<S: Scalar> Scene<S> {
+    /// The nearest object hit by the ray `o + t d` (unit `d`) with `t_min < t`.
+    pub fn closest_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S) -> Option<(usize, Hit<S>)> {
+        self.closest_hit_dir(o, d, S::dir_from(d.to_array()), t_min)
+    }
+
+    /// As [`Scene::closest_hit`], with the ray's direction also held precisely.
+    pub fn closest_hit_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, t_min: S) -> Option<(usize, Hit<S>)> {
+        self.closest_hit_culled(o, d, precise, t_min, None)
+    }
+
+    /// The nearest object hit by a camera ray (which leaves the lens: see
+    /// [`LensCones`]): [`Scene::closest_hit_dir`] with the objects out of the
+    /// ray's reach skipped.
+    pub fn closest_hit_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Option<(usize, Hit<S>)> {
+        self.closest_hit_culled(ray.origin, ray.dir, ray.precise, S::HIT_EPSILON, Some(cones))
+    }
+
+    /// As [`Scene::closest_hit_dir`], skipping the objects a ray from the
+    /// lens cannot reach where `cones` is given.
+    fn closest_hit_culled(
+        &self,
+        o: Vec3<S>,
+        d: Vec3<S>,
+        precise: S::Dir,
+        t_min: S,
+        cones: Option<&LensCones<S>>,
+    ) -> Option<(usize, Hit<S>)> {
+        let mut best: Option<(usize, Hit<S>)> = None;
+        for (i, obj) in self.objects.iter().enumerate() {
+            if let Some(c) = cones {
+                if !c.may_reach(i, d) {
+                    continue;
+                }
+            }
+            let t_max = best.map_or(S::MAX, |(_, h)| h.t);
+            if let Some(h) = obj.intersect_dir(o, d, precise, t_min, t_max) {
+                best = Some((i, h));
+            }
+        }
+        best
+    }
+
+    /// Whether anything lies on the ray within `t_min < t < t_max`
+    /// (stops at the first hit: shadow rays).
+    pub fn any_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> bool {
+        self.objects
+            .iter()
+            .any(|obj| obj.intersect(o, d, t_min, t_max).is_some())
+    }
+
+    /// The colour seen along the ray `o + t d` (unit `d`), unclamped.
+    ///
+    /// # Panics
+    ///
+    /// Never: every operation saturates.
+    pub fn trace(&self, o: Vec3<S>, d: Vec3<S>) -> Vec3<S> {
+        self.trace_dir(o, d, S::dir_from(d.to_array()))
+    }
+
+    /// As [`Scene::trace`], with the ray's direction also held precisely
+    /// (any length): the camera's rays, see [`Ray`].
+    pub fn trace_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir) -> Vec3<S> {
+        self.trace_culled(o, d, precise, None)
+    }
+
+    /// The colour seen along a camera ray (which leaves the lens: see
+    /// [`LensCones`]), unclamped: [`Scene::trace_dir`] with the objects out
+    /// of the ray's reach skipped.
+    pub fn trace_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Vec3<S> {
+        self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones))
+    }
+
+    fn trace_culled(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, cones: Option<&LensCones<S>>) -> Vec3<S> {
+        let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::HIT_EPSILON, cones) else {
+            return self.background;
+        };
+        let obj = &self.objects[i];
+        let p = o + d * hit.t;
+        let n = obj.normal(&hit, d);
+        let v = -d;
+        let m = &obj.material;
+        let (ka, kd) = if obj.in_dark_square(&hit) {
+            let q = S::from_q15(8192);
+            (m.ka * q, m.kd * q)
+        } else {
+            (m.ka, m.kd)
+        };
+        let mut colour = ka.hadamard(self.ambient);
+        // Shadow rays leave from just above the surface, on the viewer's side.
+        let p_shadow = if self.shadows { p + n * S::HIT_EPSILON } else { p };
+        for light in &self.lights {
+            let to_light = light.position - p;
+            // A light behind the surface needs no normalising (in Program 1, the
+            // lamp under the floor for every floor pixel).
+            if !S::dot_positive(n.to_array(), to_light.to_array()) {
+                continue;
+            }
+            let (l, dist) = to_light.normalize_len();
+            let n_dot_l = n.dot(l);
+            if n_dot_l <= S::ZERO {
+                continue;
+            }
+            if self.shadows && self.any_hit(p_shadow, l, S::HIT_EPSILON, dist) {
+                continue;
+            }
+            let r = n * n_dot_l.add(n_dot_l) - l;
+            let r_dot_v = r.dot(v).max(S::ZERO);
+            let diffuse = kd * n_dot_l;
+            let specular = m.ks * r_dot_v.powf(m.shine);
+            colour = colour + (diffuse + specular).hadamard(light.intensity);
+        }
+        colour
+    }
+}
