@@ -4,7 +4,7 @@
 //! (defaults 1000 scenes from seed 0 at 160x120), pinhole and lens scenes of
 //! each seed. Prints the distribution, and the seeds under the floors
 //! (40 dB, 99.5 % within 2 levels, no row or column above 2 levels).
-use lensray_host::scenegen::Camera;
+use lensray_testkit::scenegen::Camera;
 use lensray_host::sweep::{run, Summary};
 
 fn main() {

@@ -18,13 +18,16 @@
 
 use std::process::ExitCode;
 
-mod cmd_bake;
-mod cmd_compare;
-mod cmd_emulate;
-mod cmd_render;
-mod cmd_sheet;
-mod emulate_pico;
-mod opts;
+/// The commands, one file each, and the options they share.
+mod cli {
+    pub(crate) mod bake;
+    pub(crate) mod compare;
+    pub(crate) mod emulate;
+    pub(crate) mod emulate_pico;
+    pub(crate) mod opts;
+    pub(crate) mod render;
+    pub(crate) mod sheet;
+}
 
 pub(crate) const USAGE: &str = "usage:
   lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
@@ -116,11 +119,11 @@ fn names_a_line(msg: &str) -> bool {
 
 fn run(args: &[String]) -> Result<(), Fail> {
     match args.first().map(String::as_str) {
-        Some("render") => cmd_render::run(&args[1..]),
-        Some("sheet") => cmd_sheet::run(&args[1..]),
-        Some("emulate") => cmd_emulate::run(&args[1..]),
-        Some("compare") => cmd_compare::run(&args[1..]),
-        Some("bake") => cmd_bake::run(&args[1..]),
+        Some("render") => cli::render::run(&args[1..]),
+        Some("sheet") => cli::sheet::run(&args[1..]),
+        Some("emulate") => cli::emulate::run(&args[1..]),
+        Some("compare") => cli::compare::run(&args[1..]),
+        Some("bake") => cli::bake::run(&args[1..]),
         Some("-h") | Some("--help") | Some("help") => {
             println!("{USAGE}");
             Ok(())

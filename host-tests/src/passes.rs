@@ -7,7 +7,7 @@ use lensray::progressive::{render_pass_row, Pass, Schedule};
 use lensray::{Renderer, Scalar, Scene};
 use rayon::prelude::*;
 
-use crate::canvas::Band;
+use lensray_testkit::Band;
 use crate::Image;
 
 /// Renders `scene` pass by pass as a display would show it, calling

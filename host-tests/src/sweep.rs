@@ -10,7 +10,7 @@ use std::fmt;
 
 use lensray::{Scene, I16F16};
 
-use crate::scenegen::{generate_with, Camera, Options};
+use lensray_testkit::scenegen::{generate_with, Camera, Options};
 use crate::{render_both, Diff, LineErrors};
 
 /// Lens samples a pixel of a lens scene takes in a sweep.

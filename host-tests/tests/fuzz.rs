@@ -14,7 +14,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use lensray_host::fuzz::{check_input, escape, kind_name, seed_corpus, Fuzzer, Outcome};
+use lensray_testkit::fuzz::{check_input, escape, kind_name, seed_corpus, Fuzzer, Outcome};
 
 fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")

@@ -11,7 +11,7 @@
 mod common;
 
 use common::{render_fixed, scene_text};
-use lensray_host::measure::{extent, gradient_energy, gradient_energy_where, luma, PixelBox};
+use lensray_testkit::measure::{extent, gradient_energy, gradient_energy_where, luma, PixelBox};
 use lensray_host::Image;
 
 const W: u32 = 320;

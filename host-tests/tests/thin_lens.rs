@@ -23,7 +23,7 @@
 mod common;
 
 use common::render_fixed;
-use lensray_host::measure::luma;
+use lensray_testkit::measure::luma;
 use lensray_host::Image;
 
 /// 81 pixels across a film 81/64 wide: pitch 1/64, the centre pixel on the axis.

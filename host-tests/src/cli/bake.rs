@@ -8,7 +8,7 @@ use lensray::baked::{bake, baked_len, BakeScalar};
 use lensray::{Renderer, I16F16};
 use lensray_host::{load_scene, write_atomic};
 
-use crate::opts::{apply_to_scene, image_size, parse_opts, RenderOpts};
+use crate::cli::opts::{apply_to_scene, image_size, parse_opts, RenderOpts};
 use crate::{Fail, USAGE};
 
 /// Image width without `--width`: a small panel's, as `emulate` uses.

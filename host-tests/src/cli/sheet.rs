@@ -6,7 +6,7 @@ use lensray::{Scalar, Scene, I16F16};
 use lensray_host::sheet::{camera_caption, contact_sheet, Tile};
 use lensray_host::{encode, load_scene, write_atomic, Format};
 
-use crate::opts::{image_size, parse_opts, parse_u32, render_with_progress, RenderOpts};
+use crate::cli::opts::{image_size, parse_opts, parse_u32, render_with_progress, RenderOpts};
 use crate::{Fail, USAGE};
 
 pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
@@ -67,7 +67,7 @@ fn tiles<S: Scalar + Send + Sync>(o: &RenderOpts) -> Result<Vec<Tile>, Fail> {
                 .file_stem()
                 .map_or_else(|| p.clone(), |s| s.to_string_lossy().into_owned());
             let mut scene = load_scene::<S>(path)?;
-            crate::opts::apply_to_scene(o, &mut scene);
+            crate::cli::opts::apply_to_scene(o, &mut scene);
             Ok((name, scene))
         })
         .collect::<Result<_, Fail>>()?;

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use lensray::{Scalar, I16F16};
 use lensray_host::{encode, load_scene, write_atomic, Format};
 
-use crate::opts::{apply_to_scene, image_size, parse_opts, render_passes_to, render_with_progress};
+use crate::cli::opts::{apply_to_scene, image_size, parse_opts, render_passes_to, render_with_progress};
 use crate::{Fail, USAGE};
 
 pub(crate) fn run(args: &[String]) -> Result<(), Fail> {

@@ -18,7 +18,7 @@ use embedded_graphics::pixelcolor::Rgb888;
 use lensray::{Scalar, I16F16};
 use lensray_host::{encode, load_scene, write_atomic, Format, Image};
 
-use crate::opts::{image_size, parse_opts, parse_u32};
+use crate::cli::opts::{image_size, parse_opts, parse_u32};
 use crate::{Fail, USAGE};
 
 /// A board QEMU emulates: its name, Rust target, cargo features, QEMU
@@ -119,7 +119,7 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     };
     let scene_path = Path::new(scene_path);
     if pico {
-        return crate::emulate_pico::run(&o, scene_path, soft_sqrt, Duration::from_secs(timeout as u64));
+        return crate::cli::emulate_pico::run(&o, scene_path, soft_sqrt, Duration::from_secs(timeout as u64));
     }
     let board = board.ok_or_else(|| Fail(format!("emulate needs --board {}\n{USAGE}", board_names())))?;
 

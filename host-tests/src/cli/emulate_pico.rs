@@ -16,8 +16,8 @@ use lensray::{Renderer, Scalar, I16F16};
 use lensray_host::panel::image_from_rgb565;
 use lensray_host::{encode, load_scene, write_atomic, Format};
 
-use crate::cmd_emulate::{firmware_dir, run_bounded, WorkDir};
-use crate::opts::{image_size, RenderOpts};
+use crate::cli::emulate::{firmware_dir, run_bounded, WorkDir};
+use crate::cli::opts::{image_size, RenderOpts};
 use crate::Fail;
 
 /// The panel in landscape, as the firmware turns it.

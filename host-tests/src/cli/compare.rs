@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use lensray::{Renderer, I16F16};
 use lensray_host::{encode, load_image, load_scene, write_atomic, Diff, Format, Image, LineErrors};
 
-use crate::opts::{image_size, parse_u32, render_with_progress, RenderOpts};
+use crate::cli::opts::{image_size, parse_u32, render_with_progress, RenderOpts};
 use crate::{Fail, USAGE};
 
 /// The options of `compare`.
