@@ -230,4 +230,3 @@ pub fn render_both(
         render_image(float, width, height, samples, &none),
     )
 }
-

@@ -5,9 +5,9 @@
 use embedded_graphics::pixelcolor::RgbColor;
 use lensray::progressive::{render_pass, Schedule};
 use lensray::{Renderer, Scalar, Scene, I16F16};
-use lensray_testkit::measure::{gradient_energy, PixelBox};
 use lensray_host::passes::render_passes;
 use lensray_host::{render_image, Image};
+use lensray_testkit::measure::{gradient_energy, PixelBox};
 
 fn program1() -> String {
     std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/paper-program1.scene")).unwrap()

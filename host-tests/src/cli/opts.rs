@@ -2,112 +2,100 @@
 
 use std::path::PathBuf;
 
+use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use lensray::{Scalar, Scene};
+use lensray_host::panel::PanelFormat;
 use lensray_host::{render_image_counted, Image, MAX_SIDE};
 
 use crate::Fail;
 
-/// Options shared by the commands that render.
-#[derive(Default)]
-pub(crate) struct RenderOpts {
-    pub(crate) positional: Vec<String>,
-    pub(crate) out: Option<PathBuf>,
+/// Most lens samples a pixel the command line takes.
+const MAX_SAMPLES: u32 = 65535;
+
+/// Image size and lens samples: every command that renders.
+#[derive(Args, Clone, Debug, Default)]
+pub(crate) struct Size {
+    /// Image width in pixels (1 to 8192)
+    #[arg(long, value_name = "W", value_parser = whole(1, MAX_SIDE))]
     pub(crate) width: Option<u32>,
+    /// Image height in pixels (1 to 8192) [default: width / the scene's aspect_ratio, rounded]
+    #[arg(long, value_name = "H", value_parser = whole(1, MAX_SIDE))]
     pub(crate) height: Option<u32>,
+    /// Lens samples a pixel (1 to 65535) [default: the scene's `point`]
+    #[arg(long, value_name = "N", value_parser = whole(1, MAX_SAMPLES))]
     pub(crate) samples: Option<u32>,
-    pub(crate) float: bool,
-    /// `--adaptive on|off`: overrides the scene's `adaptive` statement.
-    pub(crate) adaptive: Option<bool>,
-    /// `--sampler independent|stratified`: overrides the scene's `sampler` statement.
-    pub(crate) sampler: Option<lensray::sampler::Sampler>,
-    /// `--passes DIR`: save each progressive pass there.
-    pub(crate) passes: Option<PathBuf>,
-    /// `--first-step N`: block side of the first progressive pass.
-    pub(crate) first_step: Option<u32>,
-    /// `--preview-samples N`: samples of the progressive preview (0: none).
-    pub(crate) preview_samples: Option<u32>,
-    /// `--panel rgb565`: the image as a 16-bit panel shows it.
-    pub(crate) panel: Option<lensray_host::panel::PanelFormat>,
 }
 
-pub(crate) fn parse_u32(flag: &str, v: Option<&String>, lo: u32, hi: u32) -> Result<u32, Fail> {
-    let v = v.ok_or_else(|| Fail(format!("{flag} needs a value")))?;
-    let digits = v.strip_prefix(['-', '+']).unwrap_or(v);
-    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
-        return Err(Fail(format!("{flag} {v}: not a whole number")));
-    }
-    // Any whole number out of range, however long, gets the range message.
-    let n: u64 = if v.starts_with('-') {
-        0
-    } else {
-        digits.parse().unwrap_or(u64::MAX)
-    };
-    if (v.starts_with('-') && digits.bytes().any(|b| b != b'0')) || n < lo as u64 || n > hi as u64 {
-        return Err(Fail(format!("{flag} {v}: must be between {lo} and {hi}")));
-    }
-    Ok(n as u32)
+/// What the command line may change in a loaded scene's camera.
+#[derive(Args, Clone, Debug, Default)]
+pub(crate) struct Sampling {
+    /// Overrides the scene's `adaptive`: a pixel stops taking lens samples once its mean is settled
+    #[arg(long, value_name = "on|off")]
+    pub(crate) adaptive: Option<OnOff>,
+    /// Overrides the scene's `sampler`
+    #[arg(long, value_name = "SAMPLER")]
+    pub(crate) sampler: Option<SamplerName>,
 }
 
-pub(crate) fn parse_opts(args: &[String]) -> Result<RenderOpts, Fail> {
-    let mut o = RenderOpts::default();
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "-o" | "--output" => o.out = Some(PathBuf::from(it.next().ok_or("-o needs a file name")?)),
-            "--width" => o.width = Some(parse_u32("--width", it.next(), 1, MAX_SIDE)?),
-            "--height" => o.height = Some(parse_u32("--height", it.next(), 1, MAX_SIDE)?),
-            "--samples" => o.samples = Some(parse_u32("--samples", it.next(), 1, 65535)?),
-            "--float" => o.float = true,
-            "--adaptive" => {
-                o.adaptive = Some(match it.next().map(String::as_str) {
-                    Some("on") => true,
-                    Some("off") => false,
-                    Some(v) => return Err(Fail(format!("--adaptive {v}: must be on or off"))),
-                    None => return Err(Fail("--adaptive needs a value: on or off".into())),
-                })
-            }
-            "--sampler" => {
-                use lensray::sampler::Sampler;
-                o.sampler = Some(match it.next().map(String::as_str) {
-                    Some("independent") => Sampler::Independent,
-                    Some("stratified") => Sampler::Stratified,
-                    Some(v) => return Err(Fail(format!("--sampler {v}: must be independent or stratified"))),
-                    None => return Err(Fail("--sampler needs a value: independent or stratified".into())),
-                })
-            }
-            "--passes" => o.passes = Some(PathBuf::from(it.next().ok_or("--passes needs a directory")?)),
-            "--first-step" => {
-                o.first_step = Some(parse_u32("--first-step", it.next(), 1, lensray::progressive::MAX_STEP)?)
-            }
-            "--preview-samples" => o.preview_samples = Some(parse_u32("--preview-samples", it.next(), 0, 65535)?),
-            "--panel" => {
-                let v = it.next().ok_or("--panel needs a value: rgb565")?;
-                o.panel = Some(
-                    lensray_host::panel::PanelFormat::parse(v)
-                        .ok_or_else(|| Fail(format!("--panel {v}: unknown panel format; use rgb565")))?,
-                );
-            }
-            s if s.starts_with('-') && s.len() > 1 => return Err(Fail(format!("unknown option \"{s}\""))),
-            _ => o.positional.push(a.clone()),
+/// `on` or `off`, as the scene format spells a switch.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum OnOff {
+    On,
+    Off,
+}
+
+/// The lens samplers, by their scene-format names.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum SamplerName {
+    /// Each lens sample drawn on its own
+    Independent,
+    /// Lens samples spread over strata of the aperture
+    Stratified,
+}
+
+/// `--panel`: a panel format by name (`PanelFormat::parse`).
+pub(crate) fn panel(name: &str) -> Result<PanelFormat, String> {
+    PanelFormat::parse(name).ok_or_else(|| "unknown panel format; use rgb565".to_string())
+}
+
+/// A parser of whole numbers in `lo..=hi` whose messages name the limits:
+/// "not a whole number", "must be between LO and HI" (for any whole number
+/// out of range, however long or negative).
+pub(crate) fn whole(lo: u32, hi: u32) -> impl Fn(&str) -> Result<u32, String> + Clone + Send + Sync + 'static {
+    move |v: &str| {
+        let digits = v.strip_prefix(['-', '+']).unwrap_or(v);
+        if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+            return Err("not a whole number".into());
         }
+        let n: u64 = if v.starts_with('-') {
+            0
+        } else {
+            digits.parse().unwrap_or(u64::MAX)
+        };
+        if (v.starts_with('-') && digits.bytes().any(|b| b != b'0')) || n < lo as u64 || n > hi as u64 {
+            return Err(format!("must be between {lo} and {hi}"));
+        }
+        Ok(n as u32)
     }
-    Ok(o)
 }
 
 /// Applies the options that change a loaded scene (`--adaptive`, `--sampler`).
-pub(crate) fn apply_to_scene<S: Scalar>(o: &RenderOpts, scene: &mut Scene<S>) {
+pub(crate) fn apply_to_scene<S: Scalar>(o: &Sampling, scene: &mut Scene<S>) {
     if let Some(a) = o.adaptive {
-        scene.camera.adaptive = a;
+        scene.camera.adaptive = a == OnOff::On;
     }
     if let Some(s) = o.sampler {
-        scene.camera.sampler = s;
+        scene.camera.sampler = match s {
+            SamplerName::Independent => lensray::sampler::Sampler::Independent,
+            SamplerName::Stratified => lensray::sampler::Sampler::Stratified,
+        };
     }
 }
 
-/// Image size: `--width` (640) and `--height` (width / aspect_ratio).
-pub(crate) fn image_size(o: &RenderOpts, aspect_ratio: f64) -> Result<(u32, u32), Fail> {
-    let w = o.width.unwrap_or(640);
+/// Image size: `--width` (`default_width`) and `--height` (width / aspect_ratio).
+pub(crate) fn image_size(o: &Size, default_width: u32, aspect_ratio: f64) -> Result<(u32, u32), Fail> {
+    let w = o.width.unwrap_or(default_width);
     let h = match o.height {
         Some(h) => h,
         None => {
@@ -141,13 +129,30 @@ pub(crate) fn render_with_progress<S: Scalar + Send + Sync>(
     out
 }
 
+/// Progressive rendering as a display shows it (`render --passes`).
+#[derive(Args, Clone, Debug)]
+pub(crate) struct Passes {
+    /// Renders progressively and saves the picture after each pass as DIR/pass-1.png ...: a
+    /// preview of SxS blocks with P lens samples, then the same blocks and ever finer ones at the
+    /// full samples; the last pass is the plain render, also written to the output
+    #[arg(long, value_name = "DIR")]
+    pub(crate) passes: Option<PathBuf>,
+    /// Block side S of the first progressive pass (1 to 64)
+    #[arg(long, value_name = "S", default_value_t = 8, value_parser = whole(1, lensray::progressive::MAX_STEP))]
+    pub(crate) first_step: u32,
+    /// Lens samples P of the progressive preview (0 to 65535; 0 for no preview)
+    #[arg(long, value_name = "P", default_value_t = 1, value_parser = whole(0, MAX_SAMPLES))]
+    pub(crate) preview_samples: u32,
+}
+
 /// Renders progressively (`--passes DIR`), saving the display after each pass
 /// as `DIR/pass-K.png` (K from 1) as soon as it is done; returns the final image.
 pub(crate) fn render_passes_to<S: Scalar + Send + Sync>(
     scene: &Scene<S>,
     w: u32,
     h: u32,
-    o: &RenderOpts,
+    samples: Option<u32>,
+    o: &Passes,
     dir: &std::path::Path,
 ) -> Result<Image, Fail> {
     std::fs::create_dir_all(dir).map_err(|e| Fail(format!("{}: cannot create: {e}", dir.display())))?;
@@ -174,15 +179,7 @@ pub(crate) fn render_passes_to<S: Scalar + Send + Sync>(
             Err(e) => failed = Some(e),
         }
     };
-    let img = lensray_host::passes::render_passes(
-        scene,
-        w,
-        h,
-        o.samples,
-        o.first_step.unwrap_or(8),
-        o.preview_samples.unwrap_or(1),
-        &mut save,
-    );
+    let img = lensray_host::passes::render_passes(scene, w, h, samples, o.first_step, o.preview_samples, &mut save);
     match failed {
         Some(e) => Err(e),
         None => Ok(img),
