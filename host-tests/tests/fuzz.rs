@@ -275,3 +275,19 @@ fn every_keyword_is_in_the_libfuzzer_dictionary_and_the_format_docs() {
         );
     }
 }
+
+/// `fuzz/` (libFuzzer's crate) resolves to the library and the test kit
+/// without the command's dependencies: its lock file (kept current by
+/// `cargo check --locked` in the test command) names none of them.
+#[test]
+fn the_fuzz_crate_needs_none_of_the_commands_dependencies() {
+    let lock = std::fs::read_to_string(workspace().join("fuzz/Cargo.lock")).unwrap();
+    let packages: Vec<&str> = lock
+        .lines()
+        .filter_map(|l| l.strip_prefix("name = \"")?.strip_suffix('"'))
+        .collect();
+    assert!(packages.contains(&"lensray-testkit"), "{packages:?}");
+    for heavy in ["lensray-host", "rayon", "image", "indicatif", "clap", "tinybmp"] {
+        assert!(!packages.contains(&heavy), "fuzz/ depends on {heavy}");
+    }
+}
