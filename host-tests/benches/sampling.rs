@@ -76,7 +76,7 @@ fn main() {
             (name, std::fs::read_to_string(p).unwrap())
         })
         .collect();
-    // The random scene generator's lens scenes (host-tests/src/scenegen.rs), as
+    // The random scene generator's lens scenes (host-tests/testkit/src/scenegen.rs), as
     // generated (their `point` is 1 to 64) and at `point 70`.
     for seed in 1..=env_u32("LENSRAY_SAMPLING_GENERATED", 4) as u64 {
         let text = lensray_testkit::scenegen::generate_lens(seed);
