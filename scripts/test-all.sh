@@ -35,11 +35,14 @@ cargo fmt --all --check
 cargo clippy --workspace --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc -p lensray --no-deps
 
-step "host tests"
+step "host tests (the library's unit tests and doctests, the test kit's, the host's)"
 cargo test --workspace -- --skip fuzz_parser_and_renderer
 
-step "fuzz: parser and renderer together, about a minute (LENSRAY_FUZZ_SECS)"
-cargo test -p lensray-host --test fuzz fuzz_parser_and_renderer -- --nocapture
+step "fuzz: parser and renderer together, a minute (LENSRAY_FUZZ_SECS)"
+LENSRAY_FUZZ_SECS=60 cargo test -p lensray-host --test fuzz fuzz_parser_and_renderer -- --nocapture
+
+step "fuzz/ (cargo fuzz's crate) builds on the library and the test kit alone"
+(cd fuzz && cargo check --locked -q)
 
 step "no_std library for Cortex-M0 and Cortex-M4F"
 for t in $targets; do

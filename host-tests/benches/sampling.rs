@@ -76,10 +76,10 @@ fn main() {
             (name, std::fs::read_to_string(p).unwrap())
         })
         .collect();
-    // The random scene generator's lens scenes (host-tests/src/scenegen.rs), as
+    // The random scene generator's lens scenes (host-tests/testkit/src/scenegen.rs), as
     // generated (their `point` is 1 to 64) and at `point 70`.
     for seed in 1..=env_u32("LENSRAY_SAMPLING_GENERATED", 4) as u64 {
-        let text = lensray_host::scenegen::generate_lens(seed);
+        let text = lensray_testkit::scenegen::generate_lens(seed);
         named.push((format!("generated-lens-{seed}"), text.clone()));
         named.push((format!("generated-lens-{seed}@70"), text + "\npoint 70\n"));
     }

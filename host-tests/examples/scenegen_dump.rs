@@ -1,6 +1,6 @@
 //! Writes generated scenes to files: `scenegen_dump DIR pinhole|lens SEED...`
 //! (how host-tests/corpus/sweep-regressions/ was filled from a sweep's failures).
-use lensray_host::scenegen::Camera;
+use lensray_testkit::scenegen::Camera;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -4,8 +4,8 @@
 //! (defaults 1000 scenes from seed 0 at 160x120), pinhole and lens scenes of
 //! each seed. Prints the distribution, and the seeds under the floors
 //! (40 dB, 99.5 % within 2 levels, no row or column above 2 levels).
-use lensray_host::scenegen::Camera;
 use lensray_host::sweep::{run, Summary};
+use lensray_testkit::scenegen::Camera;
 
 fn main() {
     let arg = |i: usize, d: u64| std::env::args().nth(i).and_then(|s| s.parse().ok()).unwrap_or(d);

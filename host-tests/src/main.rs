@@ -1,84 +1,58 @@
-//! `lensray`: the host simulator.
+//! `lensray`: the host simulator. `lensray --help` lists the commands,
+//! `lensray COMMAND --help` their options.
 //!
-//! ```text
-//! lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
-//!                      [--sampler independent|stratified]
-//!                      [--passes DIR [--first-step S] [--preview-samples P]] [--panel rgb565]
-//! lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT] [render options]
-//! lensray emulate SCENE --board microbit|mps2-an385|mps2-an386|pico [-o OUT] [--width W] [--height H] [--samples N] [--float]
-//! lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
-//! lensray compare A.bmp B.bmp [--diff OUT]
-//! lensray bake SCENE [-o FILE] [--width W] [--height H] [--samples N] [--float]
-//! ```
-//!
-//! Exit status: 0 on success, 2 on any error (bad scene, bad arguments,
-//! unwritable output). Errors are one line on stderr: a scene error reads
-//! `SCENE:LINE: message` (as compilers print, for editors to jump to), any
-//! other `lensray: message`.
+//! Exit status: 0 on success (and for `--help`, `--version`), 2 on any error
+//! (bad scene, bad arguments, unwritable output). Errors are one line on
+//! stderr: a scene error reads `SCENE:LINE: message` (as compilers print, for
+//! editors to jump to), any other `lensray: message`.
 
 use std::process::ExitCode;
 
-mod cmd_bake;
-mod cmd_compare;
-mod cmd_emulate;
-mod cmd_render;
-mod cmd_sheet;
-mod emulate_pico;
-mod opts;
+use clap::error::{ContextKind, ContextValue, ErrorKind};
+use clap::{CommandFactory, Parser, Subcommand};
 
-pub(crate) const USAGE: &str = "usage:
-  lensray render SCENE [-o OUT] [--width W] [--height H] [--samples N] [--float]
-                       [--adaptive on|off] [--sampler independent|stratified]
-                       [--passes DIR [--first-step S] [--preview-samples P]] [--panel rgb565]
-  lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT]
-                       [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
-  lensray emulate SCENE --board microbit|mps2-an385|mps2-an386|pico [-o OUT] [--width W] [--height H]
-                  [--samples N] [--float] [--soft-sqrt] [--parse-on-device] [--timeout SECONDS]
-  lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
-  lensray compare A B [--diff OUT]
-  lensray bake SCENE [-o FILE] [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
+/// The commands, one file each, and the options they share.
+mod cli {
+    pub(crate) mod bake;
+    pub(crate) mod compare;
+    pub(crate) mod emulate;
+    pub(crate) mod emulate_pico;
+    pub(crate) mod opts;
+    pub(crate) mod render;
+    pub(crate) mod sheet;
+}
 
-  render   renders a scene file to OUT (.bmp or .png; default: the scene's
-           name with .bmp, in the current directory). --width defaults to 640,
-           --height to round(width / aspect_ratio); --samples overrides the
-           scene's `point`; --float renders with the f32 reference instead of
-           Q16.16; --adaptive on|off overrides the scene's `adaptive` (a pixel
-           stops taking lens samples once its mean is settled) and --sampler
-           its `sampler`. Prints the mean lens rays cast a pixel. --passes renders progressively as a display would show
-           it and saves the picture after each pass as DIR/pass-1.png ...:
-           a preview of SxS blocks (S = --first-step, default 8) with P lens
-           samples (--preview-samples, default 1; 0 for none), then the same
-           blocks and ever finer ones at the full samples; the last pass is
-           the plain render, also written to OUT. --panel rgb565 writes the
-           image as a 16-bit panel shows it (each pixel to RGB 5-6-5 and back,
-           by embedded-graphics' conversions).
-  sheet    renders each scene (--width default 320) and lays them side by side,
-           C a row (default up to 4), each captioned with its file name and
-           camera, under an optional title, into SHEET (default sheet.png).
-  emulate  builds the firmware (../firmware) with the scene embedded, runs it
-           under QEMU on the board (qemu-system-arm, instruction counting on),
-           writes the image the board rendered to OUT (default: the scene's
-           name, -BOARD.bmp) and prints its instructions per pixel and memory
-           use. --width defaults to 160; --soft-sqrt takes f32 square roots in
-           software even on the FPU board; --parse-on-device embeds the
-           scene's text and parses it on the board instead of the scene
-           baked at build time; --timeout (3600 s) bounds the run. Boards:
-           microbit (Cortex-M0), mps2-an385 (Cortex-M3), mps2-an386 (Cortex-M4F).
-           --board pico builds firmware/pico and runs it under rp2040js (Node)
-           with a model of its ST7789 panel: writes what the panel shows (equal
-           to render --panel rgb565) and prints cycles a pixel and the frame's
-           seconds at 125 MHz.
-  compare  renders a scene with Q16.16 and with the f32 reference (same size,
-           same samples; sizes as for render), or reads two images (.bmp or
-           .png), and prints PSNR, mean and max error, the share of pixels
-           within 1, 2 and 8 levels, and the worst row and column. --diff
-           writes the error as a heat map (.png or .bmp): black where equal,
-           brighter where worse, white from 8 levels.
-  bake     sets the scene up for one image size (--width default 160, --height
-           from aspect_ratio) and writes it as a baked scene (default: the
-           scene's name with .lrbk): little-endian, versioned, CRC-32
-           checked, what the firmware loads without a parser (README, Baked
-           scenes). --float bakes the f32 renderer's set-up.";
+/// lensray's host simulator: renders scene files in Q16.16 or f32, compares
+/// the two, lays renders out on a sheet, bakes scenes for firmware and runs
+/// the firmware under emulators.
+#[derive(Parser, Debug)]
+#[command(
+    name = "lensray",
+    version,
+    arg_required_else_help = true,
+    after_help = "Exit status: 0 on success, 2 on any error. Errors are one line on stderr: \
+                  SCENE:LINE: message for a scene's, lensray: message for any other."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// Each command, with the options it takes. A repeated option takes its last
+/// value; numbers may be written negative, to get the range message.
+#[derive(Subcommand, Debug)]
+enum Command {
+    #[command(args_override_self = true, allow_negative_numbers = true)]
+    Render(cli::render::RenderArgs),
+    #[command(args_override_self = true, allow_negative_numbers = true)]
+    Sheet(cli::sheet::SheetArgs),
+    #[command(args_override_self = true, allow_negative_numbers = true)]
+    Emulate(cli::emulate::EmulateArgs),
+    #[command(args_override_self = true, allow_negative_numbers = true)]
+    Compare(cli::compare::CompareArgs),
+    #[command(args_override_self = true, allow_negative_numbers = true)]
+    Bake(cli::bake::BakeArgs),
+}
 
 /// A one-line error for the user; exit status 2.
 pub(crate) struct Fail(pub(crate) String);
@@ -90,18 +64,46 @@ impl<T: std::fmt::Display> From<T> for Fail {
 }
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    match run(&args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(Fail(msg)) => {
-            if names_a_line(&msg) {
-                eprintln!("{msg}");
-            } else {
-                eprintln!("lensray: {msg}");
-            }
-            ExitCode::from(2)
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let cli = match Cli::try_parse_from(&args) {
+        Ok(cli) => cli,
+        Err(e) if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) => {
+            // Asked for: help or the version on stdout, success.
+            let _ = e.print();
+            return ExitCode::SUCCESS;
         }
+        Err(e) if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            let _ = e.print();
+            return ExitCode::from(2);
+        }
+        Err(e) => {
+            // The command the error is about, if the first argument names one.
+            let first = args.get(1).and_then(|a| a.to_str()).unwrap_or_default();
+            let known = Cli::command().get_subcommands().any(|c| c.get_name() == first);
+            return fail(&Fail(usage_error(&e, if known { first } else { "" })));
+        }
+    };
+    let result = match cli.command {
+        Command::Render(a) => cli::render::run(a),
+        Command::Sheet(a) => cli::sheet::run(a),
+        Command::Emulate(a) => cli::emulate::run(a),
+        Command::Compare(a) => cli::compare::run(a),
+        Command::Bake(a) => cli::bake::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => fail(&e),
     }
+}
+
+/// Prints the error (with the program's name unless it names a line); status 2.
+fn fail(Fail(msg): &Fail) -> ExitCode {
+    if names_a_line(msg) {
+        eprintln!("{msg}");
+    } else {
+        eprintln!("lensray: {msg}");
+    }
+    ExitCode::from(2)
 }
 
 /// Whether a message starts `FILE:LINE: `: printed without the program's
@@ -114,18 +116,89 @@ fn names_a_line(msg: &str) -> bool {
         .is_some_and(|(file, line)| !file.is_empty() && !line.is_empty() && line.bytes().all(|b| b.is_ascii_digit()))
 }
 
-fn run(args: &[String]) -> Result<(), Fail> {
-    match args.first().map(String::as_str) {
-        Some("render") => cmd_render::run(&args[1..]),
-        Some("sheet") => cmd_sheet::run(&args[1..]),
-        Some("emulate") => cmd_emulate::run(&args[1..]),
-        Some("compare") => cmd_compare::run(&args[1..]),
-        Some("bake") => cmd_bake::run(&args[1..]),
-        Some("-h") | Some("--help") | Some("help") => {
-            println!("{USAGE}");
-            Ok(())
+/// What a command takes besides its options, for a wrong count of them.
+fn takes(command: &str) -> &'static str {
+    match command {
+        "sheet" => "one or more scene files",
+        "compare" => "one scene file or two images",
+        _ => "one scene file",
+    }
+}
+
+/// clap's error as one line in lensray's words: `--width abc: not a whole
+/// number`, `--width needs a value`, `unknown option "--widht"; did you mean
+/// "--width"?`. `command` is the command it is about ("" for none).
+fn usage_error(e: &clap::Error, command: &str) -> String {
+    let text = |kind| match e.get(kind) {
+        Some(ContextValue::String(s)) => Some(s.clone()),
+        Some(ContextValue::Strings(v)) => Some(v.join(", ")),
+        _ => None,
+    };
+    let list = |kind| match e.get(kind) {
+        Some(ContextValue::Strings(v)) => v.clone(),
+        _ => Vec::new(),
+    };
+    // "--width <W>" -> "--width": the flag as the user typed it.
+    let flag = text(ContextKind::InvalidArg)
+        .map(|a| a.split([' ', '=']).next().unwrap_or_default().to_string())
+        .unwrap_or_default();
+    let hint = |suggested: Option<String>| suggested.map_or_else(String::new, |s| format!("; did you mean \"{s}\"?"));
+    let help = if command.is_empty() {
+        "; see lensray --help".to_string()
+    } else {
+        format!("; see lensray {command} --help")
+    };
+    match e.kind() {
+        ErrorKind::ValueValidation => {
+            let value = text(ContextKind::InvalidValue).unwrap_or_default();
+            let why = std::error::Error::source(e).map_or_else(|| "not valid".to_string(), |s| s.to_string());
+            format!("{flag} {value}: {why}")
         }
-        Some(other) => Err(Fail(format!("unknown command \"{other}\"\n{USAGE}"))),
-        None => Err(Fail(USAGE.to_string())),
+        ErrorKind::InvalidValue => {
+            let value = text(ContextKind::InvalidValue).unwrap_or_default();
+            let valid = or_list(&list(ContextKind::ValidValue));
+            match (value.is_empty(), valid.is_empty()) {
+                (true, true) => format!("{flag} needs a value"),
+                (true, false) => format!("{flag} needs a value: {valid}"),
+                (false, _) => format!("{flag} {value}: must be {valid}"),
+            }
+        }
+        ErrorKind::UnknownArgument => {
+            let arg = text(ContextKind::InvalidArg).unwrap_or_default();
+            if arg.starts_with('-') && arg.len() > 1 {
+                format!(
+                    "unknown option \"{arg}\"{}{help}",
+                    hint(text(ContextKind::SuggestedArg))
+                )
+            } else {
+                format!("{command} takes {}: \"{arg}\" is one too many", takes(command))
+            }
+        }
+        ErrorKind::InvalidSubcommand => format!(
+            "unknown command \"{}\"{}{help}",
+            text(ContextKind::InvalidSubcommand).unwrap_or_default(),
+            hint(text(ContextKind::SuggestedSubcommand))
+        ),
+        ErrorKind::MissingRequiredArgument => {
+            let missing = list(ContextKind::InvalidArg);
+            match missing.iter().find(|a| a.starts_with('-')) {
+                Some(option) => format!("{command} needs {option}{help}"),
+                None => format!("{command} takes {}{help}", takes(command)),
+            }
+        }
+        // Anything else: clap's own first line, without its "error: ".
+        _ => {
+            let rendered = e.render().to_string();
+            let first = rendered.lines().next().unwrap_or_default();
+            first.strip_prefix("error: ").unwrap_or(first).to_string()
+        }
+    }
+}
+
+/// "a, b or c".
+fn or_list(items: &[String]) -> String {
+    match items.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        _ => items.join(""),
     }
 }

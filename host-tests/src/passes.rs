@@ -7,8 +7,8 @@ use lensray::progressive::{render_pass_row, Pass, Schedule};
 use lensray::{Renderer, Scalar, Scene};
 use rayon::prelude::*;
 
-use crate::canvas::Band;
 use crate::Image;
+use lensray_testkit::Band;
 
 /// Renders `scene` pass by pass as a display would show it, calling
 /// `on_pass(index, pass, picture so far)` after each, and returns the final

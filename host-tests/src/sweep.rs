@@ -10,8 +10,8 @@ use std::fmt;
 
 use lensray::{Scene, I16F16};
 
-use crate::scenegen::{generate_with, Camera, Options};
 use crate::{render_both, Diff, LineErrors};
+use lensray_testkit::scenegen::{generate_with, Camera, Options};
 
 /// Lens samples a pixel of a lens scene takes in a sweep.
 pub const LENS_SAMPLES: u32 = 16;

@@ -265,11 +265,11 @@ fn program1_640x480_70_rays_fixed_matches_f32_and_the_exact_pixels() {
     };
     // Its widest rows (the cone's base ends above row 300), and its top in the
     // middle columns.
-    let b = lensray_host::measure::extent(&fixed, |x, y| {
+    let b = lensray_testkit::measure::extent(&fixed, |x, y| {
         (200..440).contains(&x) && (300..310).contains(&y) && gold(x, y)
     })
     .expect("the gold sphere");
-    let top = lensray_host::measure::extent(&fixed, |x, y| (300..340).contains(&x) && y < 300 && gold(x, y))
+    let top = lensray_testkit::measure::extent(&fixed, |x, y| (300..340).contains(&x) && y < 300 && gold(x, y))
         .expect("the gold sphere's top");
     eprintln!("gold sphere's widest rows: {b:?}, top: {top:?}");
     let cx = (b.x0 + b.x1) as f64 / 2.0;

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use lensray::baked::{bake, baked_len, BakeError, BakeScalar, Baked, FORMAT_VERSION, HEADER_LEN, MAGIC};
 use lensray::{Renderer, Scene, I16F16};
-use lensray_host::fuzz::{scene_from_grammar, Rng};
+use lensray_testkit::fuzz::{scene_from_grammar, Rng};
 
 fn scenes() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");

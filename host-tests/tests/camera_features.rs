@@ -6,9 +6,9 @@ use embedded_graphics::pixelcolor::RgbColor;
 use lensray::camera::CameraSample;
 use lensray::progressive::{render_pass, Schedule};
 use lensray::{Renderer, Scalar, Scene, I16F16};
-use lensray_host::measure::{gradient_energy, PixelBox};
 use lensray_host::passes::render_passes;
 use lensray_host::{render_image, Image};
+use lensray_testkit::measure::{gradient_energy, PixelBox};
 
 fn program1() -> String {
     std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/paper-program1.scene")).unwrap()
@@ -156,7 +156,7 @@ fn out_of_focus_point_images_as_the_aperture_polygon() {
 /// object `i`: where its edges are.
 fn object_box(scene: &Scene<I16F16>, w: u32, h: u32, i: usize) -> PixelBox {
     let r = Renderer::new(scene, w, h);
-    let b = lensray_host::measure::extent(
+    let b = lensray_testkit::measure::extent(
         &Image::filled(w, h, embedded_graphics::pixelcolor::Rgb888::BLACK),
         |x, y| {
             let ray = r.camera().generate_ray(&CameraSample {

@@ -182,3 +182,186 @@ fn a_good_scene_still_renders() {
     let names: Vec<String> = dir.listing().into_iter().map(|(n, _)| n).collect();
     assert_eq!(names, ["a.bmp", "a.scene"]);
 }
+
+/// `lensray --help` and `lensray COMMAND --help` (and `help COMMAND`): each
+/// on stdout with status 0, naming the command's own options and no other's.
+#[test]
+fn help_lists_each_commands_own_options() {
+    let dir = TempDir::new("help");
+    let cases: &[(&str, &[&str], &[&str])] = &[
+        (
+            "render",
+            &[
+                "--output",
+                "--width",
+                "--height",
+                "--samples",
+                "--float",
+                "--adaptive",
+                "--sampler",
+                "--passes",
+                "--first-step",
+                "--preview-samples",
+                "--panel",
+            ],
+            &["--board", "--diff", "--columns"],
+        ),
+        (
+            "sheet",
+            &["--columns", "--title", "--width", "--float"],
+            &["--passes", "--board", "--panel"],
+        ),
+        (
+            "emulate",
+            &["--board", "--timeout", "--soft-sqrt", "--parse-on-device", "--width"],
+            &["--passes", "--diff"],
+        ),
+        (
+            "compare",
+            &["--diff", "--width", "--height", "--samples"],
+            &["--float", "--output", "--board"],
+        ),
+        (
+            "bake",
+            &["--output", "--width", "--float", "--adaptive"],
+            &["--passes", "--board", "--diff"],
+        ),
+    ];
+    for &(command, has, lacks) in cases {
+        for args in [vec![command, "--help"], vec!["help", command], vec![command, "-h"]] {
+            let out = lensray(&dir.0, &args);
+            let text = String::from_utf8_lossy(&out.stdout);
+            assert_eq!(
+                out.status.code(),
+                Some(0),
+                "{args:?}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            assert!(text.contains(&format!("Usage: lensray {command}")), "{args:?}:\n{text}");
+            for flag in has {
+                assert!(text.contains(flag), "{args:?} does not mention {flag}:\n{text}");
+            }
+            for flag in lacks {
+                assert!(
+                    !text.contains(flag),
+                    "{args:?} mentions {flag}, another command's:\n{text}"
+                );
+            }
+        }
+    }
+    let out = lensray(&dir.0, &["--help"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0));
+    for command in ["render", "sheet", "emulate", "compare", "bake"] {
+        assert!(
+            text.contains(command),
+            "lensray --help does not list {command}:\n{text}"
+        );
+    }
+    // Nothing asked: the overview on stderr, and a failure.
+    let out = lensray(&dir.0, &[]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("render"));
+    assert_eq!(dir.listing(), []);
+}
+
+#[test]
+fn version_is_the_packages() {
+    let dir = TempDir::new("version");
+    for flag in ["--version", "-V"] {
+        let out = lensray(&dir.0, &[flag]);
+        assert_eq!(out.status.code(), Some(0));
+        assert_eq!(
+            String::from_utf8_lossy(&out.stdout),
+            format!("lensray {}\n", env!("CARGO_PKG_VERSION"))
+        );
+    }
+}
+
+/// A mistyped option or command: one line naming it and the nearest right one.
+#[test]
+fn a_mistyped_option_or_command_gets_a_suggestion() {
+    let dir = TempDir::new("typos");
+    std::fs::write(dir.0.join("a.scene"), b"object sphere\ntranslate 0 0 -5\n").unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["render", "a.scene", "--widht", "8"],
+            "lensray: unknown option \"--widht\"; did you mean \"--width\"?; see lensray render --help",
+        ),
+        (
+            &["render", "a.scene", "--samplse", "8"],
+            "lensray: unknown option \"--samplse\"; did you mean \"--samples\"?; see lensray render --help",
+        ),
+        (
+            &["compare", "a.scene", "--dif", "x.png"],
+            "lensray: unknown option \"--dif\"; did you mean \"--diff\"?; see lensray compare --help",
+        ),
+        (
+            &["rendr", "a.scene"],
+            "lensray: unknown command \"rendr\"; did you mean \"render\"?; see lensray --help",
+        ),
+        // Another command's option is refused, not ignored.
+        (
+            &["render", "a.scene", "--board", "microbit"],
+            "lensray: unknown option \"--board\"; see lensray render --help",
+        ),
+        (
+            &["render", "a.scene", "b.scene"],
+            "lensray: render takes one scene file: \"b.scene\" is one too many",
+        ),
+        (
+            &["render"],
+            "lensray: render takes one scene file; see lensray render --help",
+        ),
+        (
+            &["sampler-typo"],
+            "lensray: unknown command \"sampler-typo\"; see lensray --help",
+        ),
+        (
+            &["render", "a.scene", "--sampler", "stratifed"],
+            "lensray: --sampler stratifed: must be independent or stratified",
+        ),
+        (
+            &["render", "a.scene", "--adaptive"],
+            "lensray: --adaptive needs a value: on or off",
+        ),
+        (
+            &["emulate", "a.scene"],
+            "lensray: emulate needs --board <BOARD>; see lensray emulate --help",
+        ),
+        (
+            &["emulate", "a.scene", "--board", "esp32"],
+            "lensray: --board esp32: must be microbit, mps2-an385, mps2-an386 or pico",
+        ),
+    ];
+    for (args, want) in cases {
+        assert_eq!(fails(&dir, args), *want);
+    }
+}
+
+/// Options keep working as before clap: last one wins, in any order.
+#[test]
+fn a_repeated_option_takes_its_last_value() {
+    let dir = TempDir::new("repeat");
+    std::fs::write(dir.0.join("a.scene"), b"object sphere\ntranslate 0 0 -5\n").unwrap();
+    let out = lensray(
+        &dir.0,
+        &[
+            "render",
+            "--width",
+            "3",
+            "a.scene",
+            "--height",
+            "5",
+            "--width",
+            "7",
+            "-o",
+            "x.bmp",
+            "--samples",
+            "1",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let img = lensray_host::load_image(&dir.0.join("x.bmp")).unwrap();
+    assert_eq!((img.width, img.height), (7, 5));
+}

@@ -13,7 +13,7 @@ use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::*;
 use lensray::camera::MAX_IMAGE_SIDE;
 use lensray::{render, Renderer, Scalar, Scene, I16F16};
-use lensray_host::fuzz::Canvas;
+use lensray_testkit::fuzz::Canvas;
 
 const PROGRAM1: &str = include_str!("../../scenes/paper-program1.scene");
 

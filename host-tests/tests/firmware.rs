@@ -322,7 +322,7 @@ fn mps2_an386_renders_bit_for_bit_in_q16_and_f32() {
 /// to files for `lensray emulate`.
 fn unseen_scenes(seed: u64, count: usize) -> Vec<&'static str> {
     use lensray::Scene;
-    use lensray_host::fuzz::{scene_from_grammar, Rng};
+    use lensray_testkit::fuzz::{scene_from_grammar, Rng};
     let mut rng = Rng::new(seed);
     let mut out = Vec::new();
     while out.len() < count {

@@ -11,8 +11,8 @@
 mod common;
 
 use common::{render_fixed, scene_text};
-use lensray_host::measure::{extent, gradient_energy, gradient_energy_where, luma, PixelBox};
 use lensray_host::Image;
+use lensray_testkit::measure::{extent, gradient_energy, gradient_energy_where, luma, PixelBox};
 
 const W: u32 = 320;
 const H: u32 = 240;

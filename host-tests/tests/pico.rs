@@ -15,9 +15,9 @@ use std::process::{Command, Output};
 
 use embedded_graphics::pixelcolor::RgbColor;
 use lensray::{Renderer, Scene, I16F16};
-use lensray_host::fuzz::{scene_from_grammar, Rng};
 use lensray_host::panel::PanelFormat;
 use lensray_host::{load_image, load_scene, render_image, Image};
+use lensray_testkit::fuzz::{scene_from_grammar, Rng};
 
 const LENSRAY: &str = env!("CARGO_BIN_EXE_lensray");
 

@@ -13,7 +13,7 @@ use embedded_graphics::pixelcolor::Rgb565;
 use embedded_graphics::prelude::*;
 use lensray::progressive::{render_pass_row, Schedule};
 use lensray::{render_with, Renderer, Scene, I16F16};
-use lensray_host::fuzz::{scene_from_grammar, Rng};
+use lensray_testkit::fuzz::{scene_from_grammar, Rng};
 
 /// A random scene the parser accepts (the fuzzer's grammar), or Program 1.
 fn scene(rng: &mut Rng) -> Scene<I16F16> {

@@ -23,8 +23,8 @@
 mod common;
 
 use common::render_fixed;
-use lensray_host::measure::luma;
 use lensray_host::Image;
+use lensray_testkit::measure::luma;
 
 /// 81 pixels across a film 81/64 wide: pitch 1/64, the centre pixel on the axis.
 const SIDE: u32 = 81;

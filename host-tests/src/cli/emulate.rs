@@ -14,12 +14,15 @@ use std::process::{Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
+use clap::builder::PossibleValuesParser;
+use clap::Args;
+
 use embedded_graphics::pixelcolor::Rgb888;
 use lensray::{Scalar, I16F16};
 use lensray_host::{encode, load_scene, write_atomic, Format, Image};
 
-use crate::opts::{image_size, parse_opts, parse_u32};
-use crate::{Fail, USAGE};
+use crate::cli::opts::{self, image_size, whole};
+use crate::Fail;
 
 /// A board QEMU emulates: its name, Rust target, cargo features, QEMU
 /// program and machine arguments. A new board is one more entry in [`BOARDS`].
@@ -55,73 +58,67 @@ const BOARDS: [Board; 3] = [
     },
 ];
 
-/// The boards' names, for messages: "a, b or c".
-fn board_names() -> String {
-    // The QEMU boards, then the Pico (rp2040js).
-    let names: Vec<&str> = BOARDS.iter().map(|b| b.name).chain(["pico"]).collect();
-    match names.split_last() {
-        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
-        _ => names.join(""),
-    }
-}
+/// The boards' names: the QEMU boards, then the Pico (rp2040js).
+const BOARD_NAMES: [&str; 4] = [BOARDS[0].name, BOARDS[1].name, BOARDS[2].name, PICO];
+
+/// The board under rp2040js instead of QEMU.
+const PICO: &str = "pico";
 
 /// The file the firmware writes its rows to, in QEMU's working directory.
 const ROWS_FILE: &str = "lensray-rows.rgb";
 
-/// Image width without `--width`.
-const DEFAULT_WIDTH: u32 = 160;
+/// Image width without `--width`: a small panel's, as a microcontroller renders slowly.
+pub(crate) const DEFAULT_WIDTH: u32 = 160;
 
 /// Longest QEMU run before it counts as hung (`--timeout`), in seconds.
 const DEFAULT_TIMEOUT: u32 = 3600;
 
-pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
-    // The options of `render`, plus --board, --timeout and --soft-sqrt.
-    let mut board = None;
-    let mut pico = false;
-    let mut timeout = DEFAULT_TIMEOUT;
-    let mut soft_sqrt = false;
-    let mut parse_on_device = false;
-    let mut rest = Vec::new();
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--board" => {
-                let name = it
-                    .next()
-                    .ok_or_else(|| Fail(format!("--board needs a value: {}", board_names())))?;
-                // Boards under another emulator than QEMU: the Pico under rp2040js.
-                if name == "pico" {
-                    pico = true;
-                    continue;
-                }
-                let b = BOARDS
-                    .iter()
-                    .find(|b| b.name == name.as_str())
-                    .ok_or_else(|| Fail(format!("--board {name}: unknown board; use {}", board_names())))?;
-                board = Some(b);
-            }
-            "--timeout" => timeout = parse_u32("--timeout", it.next(), 1, 86_400)?,
-            "--soft-sqrt" => soft_sqrt = true,
-            "--parse-on-device" => parse_on_device = true,
-            _ => rest.push(a.clone()),
-        }
+/// Renders a scene on an emulated board and says what it cost
+///
+/// Builds the firmware with the scene embedded, runs it under QEMU on the board (instruction
+/// counting on), writes the image the board rendered and prints its instructions per pixel and
+/// memory use. Boards: microbit (Cortex-M0), mps2-an385 (Cortex-M3), mps2-an386 (Cortex-M4F);
+/// pico builds firmware/pico and runs it under rp2040js (Node) with a model of its ST7789 panel,
+/// writes what the panel shows (equal to `render --panel rgb565`) and prints cycles a pixel and
+/// the frame's seconds at 125 MHz.
+#[derive(Args, Debug)]
+pub(crate) struct EmulateArgs {
+    /// The scene file (rendered as it is: put `adaptive on` in it for an adaptive render)
+    #[arg(value_name = "SCENE")]
+    pub(crate) scene: PathBuf,
+    /// The board
+    #[arg(long, value_name = "BOARD", required = true, value_parser = PossibleValuesParser::new(BOARD_NAMES))]
+    board: String,
+    /// Output image, .bmp or .png [default: the scene's name, -BOARD.bmp]
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    pub(crate) out: Option<PathBuf>,
+    #[command(flatten)]
+    pub(crate) size: opts::Size,
+    /// Renders with the f32 reference instead of Q16.16 (QEMU boards)
+    #[arg(long)]
+    pub(crate) float: bool,
+    /// Takes f32 square roots in software even on the FPU board
+    #[arg(long)]
+    soft_sqrt: bool,
+    /// Embeds the scene's text and parses it on the board instead of the scene baked at build time
+    #[arg(long)]
+    parse_on_device: bool,
+    /// Longest run in seconds before it counts as hung (1 to 86400)
+    #[arg(long, value_name = "SECONDS", default_value_t = DEFAULT_TIMEOUT, value_parser = whole(1, 86_400))]
+    timeout: u32,
+}
+
+pub(crate) fn run(o: EmulateArgs) -> Result<(), Fail> {
+    let timeout = o.timeout;
+    let scene_path = o.scene.as_path();
+    if o.board == PICO {
+        return crate::cli::emulate_pico::run(&o, scene_path, o.soft_sqrt, Duration::from_secs(timeout as u64));
     }
-    let mut o = parse_opts(&rest)?;
-    if o.adaptive.is_some() {
-        return Err(Fail(
-            "emulate renders the scene file as it is: put `adaptive on` in the scene instead of --adaptive".into(),
-        ));
-    }
-    // A small panel's width by default: a microcontroller renders slowly.
-    o.width = o.width.or(Some(DEFAULT_WIDTH));
-    let [scene_path] = o.positional.as_slice() else {
-        return Err(Fail(format!("emulate takes one scene file\n{USAGE}")));
-    };
-    let scene_path = Path::new(scene_path);
-    if pico {
-        return crate::emulate_pico::run(&o, scene_path, soft_sqrt, Duration::from_secs(timeout as u64));
-    }
-    let board = board.ok_or_else(|| Fail(format!("emulate needs --board {}\n{USAGE}", board_names())))?;
+    let board = BOARDS
+        .iter()
+        .find(|b| b.name == o.board)
+        .ok_or_else(|| Fail(format!("--board {}: unknown board", o.board)))?;
+    let (soft_sqrt, parse_on_device) = (o.soft_sqrt, o.parse_on_device);
 
     // The scene first: a bad one fails here, exactly as `render` reports it.
     let aspect = if o.float {
@@ -129,7 +126,7 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     } else {
         load_scene::<I16F16>(scene_path)?.camera.aspect_ratio
     };
-    let (width, height) = image_size(&o, aspect)?;
+    let (width, height) = image_size(&o.size, DEFAULT_WIDTH, aspect)?;
     let out = match &o.out {
         Some(p) => p.clone(),
         None => {
@@ -161,7 +158,7 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
         scene: &scene_abs,
         width,
         height,
-        samples: o.samples,
+        samples: o.size.samples,
         float: o.float,
         soft_sqrt,
         parse_on_device,

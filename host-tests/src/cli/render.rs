@@ -2,18 +2,44 @@
 
 use std::path::{Path, PathBuf};
 
+use clap::Args;
 use lensray::{Scalar, I16F16};
+use lensray_host::panel::PanelFormat;
 use lensray_host::{encode, load_scene, write_atomic, Format};
 
-use crate::opts::{apply_to_scene, image_size, parse_opts, render_passes_to, render_with_progress};
-use crate::{Fail, USAGE};
+use crate::cli::opts::{self, apply_to_scene, image_size, render_passes_to, render_with_progress};
+use crate::Fail;
 
-pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
-    let o = parse_opts(args)?;
-    let [scene_path] = o.positional.as_slice() else {
-        return Err(Fail(format!("render takes one scene file\n{USAGE}")));
-    };
-    let scene_path = Path::new(scene_path);
+/// Image width without `--width`.
+const DEFAULT_WIDTH: u32 = 640;
+
+/// Renders a scene file to a BMP or PNG image
+///
+/// Renders in Q16.16 (or f32 with --float) on all cores and prints the mean lens rays cast a pixel.
+#[derive(Args, Debug)]
+pub(crate) struct RenderArgs {
+    /// The scene file
+    #[arg(value_name = "SCENE")]
+    scene: PathBuf,
+    /// Output image, .bmp or .png [default: the scene's name with .bmp, in the current directory]
+    #[arg(short = 'o', long = "output", value_name = "OUT")]
+    out: Option<PathBuf>,
+    #[command(flatten)]
+    size: opts::Size,
+    /// Renders with the f32 reference instead of Q16.16
+    #[arg(long)]
+    float: bool,
+    #[command(flatten)]
+    sampling: opts::Sampling,
+    #[command(flatten)]
+    passes: opts::Passes,
+    /// Writes the image as a 16-bit panel shows it (each pixel to RGB 5-6-5 and back, by embedded-graphics' conversions)
+    #[arg(long, value_name = "FORMAT", value_parser = opts::panel)]
+    panel: Option<PanelFormat>,
+}
+
+pub(crate) fn run(o: RenderArgs) -> Result<(), Fail> {
+    let scene_path = o.scene.as_path();
     if scene_path.is_dir() {
         return Err(Fail(format!(
             "{}: is a directory, not a scene file",
@@ -35,23 +61,31 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     // Rays are counted by the plain render; progressive passes cast the same.
     let (img, kind, rays) = if o.float {
         let mut scene = load_scene::<f32>(scene_path)?;
-        apply_to_scene(&o, &mut scene);
-        let (w, h) = image_size(&o, scene.camera.aspect_ratio)?;
-        match &o.passes {
-            Some(dir) => (render_passes_to(&scene, w, h, &o, dir)?, f32::NAME, None),
+        apply_to_scene(&o.sampling, &mut scene);
+        let (w, h) = image_size(&o.size, DEFAULT_WIDTH, scene.camera.aspect_ratio)?;
+        match &o.passes.passes {
+            Some(dir) => (
+                render_passes_to(&scene, w, h, o.size.samples, &o.passes, dir)?,
+                f32::NAME,
+                None,
+            ),
             None => {
-                let (img, rays) = render_with_progress(&scene, w, h, o.samples);
+                let (img, rays) = render_with_progress(&scene, w, h, o.size.samples);
                 (img, f32::NAME, Some(rays))
             }
         }
     } else {
         let mut scene = load_scene::<I16F16>(scene_path)?;
-        apply_to_scene(&o, &mut scene);
-        let (w, h) = image_size(&o, scene.camera.aspect_ratio)?;
-        match &o.passes {
-            Some(dir) => (render_passes_to(&scene, w, h, &o, dir)?, I16F16::NAME, None),
+        apply_to_scene(&o.sampling, &mut scene);
+        let (w, h) = image_size(&o.size, DEFAULT_WIDTH, scene.camera.aspect_ratio)?;
+        match &o.passes.passes {
+            Some(dir) => (
+                render_passes_to(&scene, w, h, o.size.samples, &o.passes, dir)?,
+                I16F16::NAME,
+                None,
+            ),
             None => {
-                let (img, rays) = render_with_progress(&scene, w, h, o.samples);
+                let (img, rays) = render_with_progress(&scene, w, h, o.size.samples);
                 (img, I16F16::NAME, Some(rays))
             }
         }

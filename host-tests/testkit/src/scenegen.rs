@@ -14,7 +14,7 @@
 //! so that a scene's pixels say something about the renderer.
 //!
 //! ```
-//! use lensray_host::scenegen::{generate, generate_lens, generate_with, Options, Camera};
+//! use lensray_testkit::scenegen::{generate, generate_lens, generate_with, Options, Camera};
 //! let text = generate(7);
 //! assert_eq!(text, generate(7), "the same seed gives the same scene");
 //! assert!(lensray::Scene::<f32>::parse(&text).is_ok());

@@ -16,8 +16,8 @@ use lensray::{Renderer, Scalar, I16F16};
 use lensray_host::panel::image_from_rgb565;
 use lensray_host::{encode, load_scene, write_atomic, Format};
 
-use crate::cmd_emulate::{firmware_dir, run_bounded, WorkDir};
-use crate::opts::{image_size, RenderOpts};
+use crate::cli::emulate::{firmware_dir, run_bounded, EmulateArgs, WorkDir, DEFAULT_WIDTH};
+use crate::cli::opts::image_size;
 use crate::Fail;
 
 /// The panel in landscape, as the firmware turns it.
@@ -26,20 +26,15 @@ const PANEL: (u32, u32) = (320, 240);
 const CLOCK_HZ: f64 = 125e6;
 const TARGET: &str = "thumbv6m-none-eabi";
 
-pub(crate) fn run(o: &RenderOpts, scene_path: &Path, soft_sqrt: bool, timeout: Duration) -> Result<(), Fail> {
+pub(crate) fn run(o: &EmulateArgs, scene_path: &Path, soft_sqrt: bool, timeout: Duration) -> Result<(), Fail> {
     if o.float || soft_sqrt {
         return Err(Fail(
             "the pico firmware renders in Q16.16: --float and --soft-sqrt are for the QEMU boards".into(),
         ));
     }
-    if o.panel.is_some() {
-        return Err(Fail(
-            "emulate --board pico always writes what its RGB 5-6-5 panel shows: drop --panel".into(),
-        ));
-    }
     // The scene first: a bad one fails here, exactly as `render` reports it.
     let scene = load_scene::<I16F16>(scene_path)?;
-    let (width, height) = image_size(o, scene.camera.aspect_ratio)?;
+    let (width, height) = image_size(&o.size, DEFAULT_WIDTH, scene.camera.aspect_ratio)?;
     if width > PANEL.0 || height > PANEL.1 {
         return Err(Fail(format!(
             "{width}x{height} does not fit the pico's {}x{} panel: give --width and --height up to that",
@@ -47,7 +42,7 @@ pub(crate) fn run(o: &RenderOpts, scene_path: &Path, soft_sqrt: bool, timeout: D
         )));
     }
     let mut renderer = Renderer::new(&scene, width, height);
-    if let Some(n) = o.samples {
+    if let Some(n) = o.size.samples {
         renderer = renderer.with_samples(n);
     }
     let rays = renderer.rays_per_pixel();

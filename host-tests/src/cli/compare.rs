@@ -7,39 +7,34 @@
 
 use std::path::{Path, PathBuf};
 
+use clap::Args;
 use lensray::{Renderer, I16F16};
 use lensray_host::{encode, load_image, load_scene, write_atomic, Diff, Format, Image, LineErrors};
 
-use crate::opts::{image_size, parse_u32, render_with_progress, RenderOpts};
-use crate::{Fail, USAGE};
+use crate::cli::opts::{self, image_size, render_with_progress};
+use crate::Fail;
 
-/// The options of `compare`.
-struct CompareOpts {
-    render: RenderOpts,
+/// Image width without `--width`, as for `render`.
+const DEFAULT_WIDTH: u32 = 640;
+
+/// Prints how two renders differ: Q16.16 against f32, or two images
+///
+/// Renders a scene in Q16.16 and with the f32 reference (same size, same samples), or reads two
+/// images (.bmp or .png), and prints PSNR, mean and max error, the share of pixels within 1, 2
+/// and 8 levels, and the worst row and column.
+#[derive(Args, Debug)]
+pub(crate) struct CompareArgs {
+    /// One scene file, or two images
+    #[arg(value_name = "SCENE | A B", required = true, num_args = 1..=2)]
+    files: Vec<PathBuf>,
+    /// Writes the error as a heat map (.png or .bmp): black where equal, brighter where worse, white from 8 levels
+    #[arg(long, value_name = "OUT")]
     diff: Option<PathBuf>,
+    #[command(flatten)]
+    size: opts::Size,
 }
 
-fn parse(args: &[String]) -> Result<CompareOpts, Fail> {
-    let mut o = CompareOpts {
-        render: RenderOpts::default(),
-        diff: None,
-    };
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--diff" => o.diff = Some(PathBuf::from(it.next().ok_or("--diff needs a file name")?)),
-            "--width" => o.render.width = Some(parse_u32("--width", it.next(), 1, lensray_host::MAX_SIDE)?),
-            "--height" => o.render.height = Some(parse_u32("--height", it.next(), 1, lensray_host::MAX_SIDE)?),
-            "--samples" => o.render.samples = Some(parse_u32("--samples", it.next(), 1, 65535)?),
-            s if s.starts_with('-') && s.len() > 1 => return Err(Fail(format!("unknown option \"{s}\""))),
-            _ => o.render.positional.push(a.clone()),
-        }
-    }
-    Ok(o)
-}
-
-pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
-    let o = parse(args)?;
+pub(crate) fn run(o: CompareArgs) -> Result<(), Fail> {
     // Check the heat map's name before minutes of rendering, not after.
     let diff_format = match &o.diff {
         Some(p) => {
@@ -50,19 +45,19 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
         }
         None => None,
     };
-    let (a, b) = match o.render.positional.as_slice() {
-        [scene] => compare_scene(Path::new(scene), &o.render)?,
+    let (a, b) = match o.files.as_slice() {
+        [scene] => compare_scene(scene, &o.size)?,
         [first, second] => {
-            if o.render.width.is_some() || o.render.height.is_some() || o.render.samples.is_some() {
+            if o.size.width.is_some() || o.size.height.is_some() || o.size.samples.is_some() {
                 return Err(Fail(
                     "--width, --height and --samples apply to a scene, not to two images".into(),
                 ));
             }
-            let (a, b) = (load_image(Path::new(first))?, load_image(Path::new(second))?);
-            say(format_args!("{first} against {second}"));
+            let (a, b) = (load_image(first)?, load_image(second)?);
+            say(format_args!("{} against {}", first.display(), second.display()));
             (a, b)
         }
-        _ => return Err(Fail(format!("compare takes one scene file or two images\n{USAGE}"))),
+        _ => return Err(Fail("compare takes one scene file or two images".into())),
     };
     let mismatch = || {
         Fail(format!(
@@ -94,10 +89,10 @@ fn say(args: std::fmt::Arguments<'_>) {
 }
 
 /// Renders a scene with Q16.16 and with f32: (Q16.16 image, f32 image).
-fn compare_scene(path: &Path, o: &RenderOpts) -> Result<(Image, Image), Fail> {
+fn compare_scene(path: &Path, o: &opts::Size) -> Result<(Image, Image), Fail> {
     let fixed = load_scene::<I16F16>(path)?;
     let float = load_scene::<f32>(path)?;
-    let (w, h) = image_size(o, fixed.camera.aspect_ratio)?;
+    let (w, h) = image_size(o, DEFAULT_WIDTH, fixed.camera.aspect_ratio)?;
     let mut probe = Renderer::new(&fixed, w, h);
     if let Some(n) = o.samples {
         probe = probe.with_samples(n);

@@ -4,26 +4,40 @@
 
 use std::path::{Path, PathBuf};
 
+use clap::Args;
 use lensray::baked::{bake, baked_len, BakeScalar};
 use lensray::{Renderer, I16F16};
 use lensray_host::{load_scene, write_atomic};
 
-use crate::opts::{apply_to_scene, image_size, parse_opts, RenderOpts};
-use crate::{Fail, USAGE};
+use crate::cli::opts::{self, apply_to_scene, image_size};
+use crate::Fail;
 
 /// Image width without `--width`: a small panel's, as `emulate` uses.
 const DEFAULT_WIDTH: u32 = 160;
 
-pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
-    let mut o = parse_opts(args)?;
-    if o.passes.is_some() || o.first_step.is_some() || o.preview_samples.is_some() {
-        return Err(Fail("bake takes no --passes, --first-step or --preview-samples".into()));
-    }
-    o.width = o.width.or(Some(DEFAULT_WIDTH));
-    let [scene_path] = o.positional.as_slice() else {
-        return Err(Fail(format!("bake takes one scene file\n{USAGE}")));
-    };
-    let scene_path = Path::new(scene_path);
+/// Writes a scene set up for one image size, as firmware loads it
+///
+/// Sets a scene up for one image size and writes it as a baked scene: little-endian, versioned,
+/// CRC-32 checked, what the firmware loads without a parser (README, "Baked scenes").
+#[derive(Args, Debug)]
+pub(crate) struct BakeArgs {
+    /// The scene file
+    #[arg(value_name = "SCENE")]
+    scene: PathBuf,
+    /// Output file [default: the scene's name with .lrbk, in the current directory]
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    out: Option<PathBuf>,
+    #[command(flatten)]
+    size: opts::Size,
+    /// Bakes the f32 renderer's set-up instead of Q16.16's
+    #[arg(long)]
+    float: bool,
+    #[command(flatten)]
+    sampling: opts::Sampling,
+}
+
+pub(crate) fn run(o: BakeArgs) -> Result<(), Fail> {
+    let scene_path = o.scene.as_path();
     let out = match &o.out {
         Some(p) => p.clone(),
         None => {
@@ -43,12 +57,12 @@ pub(crate) fn run(args: &[String]) -> Result<(), Fail> {
     Ok(())
 }
 
-fn bytes_of<S: BakeScalar>(scene_path: &Path, o: &RenderOpts) -> Result<Vec<u8>, Fail> {
+fn bytes_of<S: BakeScalar>(scene_path: &Path, o: &BakeArgs) -> Result<Vec<u8>, Fail> {
     let mut scene = load_scene::<S>(scene_path)?;
-    apply_to_scene(o, &mut scene);
-    let (w, h) = image_size(o, scene.camera.aspect_ratio)?;
+    apply_to_scene(&o.sampling, &mut scene);
+    let (w, h) = image_size(&o.size, DEFAULT_WIDTH, scene.camera.aspect_ratio)?;
     let mut renderer = Renderer::new(&scene, w, h);
-    if let Some(n) = o.samples {
+    if let Some(n) = o.size.samples {
         renderer = renderer.with_samples(n);
     }
     let mut bytes = vec![0u8; baked_len(&renderer)];
