@@ -369,6 +369,12 @@ impl<S: Scalar> Object<S> {
 
     /// The world-space unit normal at a hit, turned to face against `d`.
     pub fn normal(&self, hit: &Hit<S>, d: Vec3<S>) -> Vec3<S> {
+        self.facing_normal(hit, d).0
+    }
+
+    /// [`Object::normal`], and whether it is the outward normal (the ray
+    /// came from outside the object) rather than its opposite.
+    pub fn facing_normal(&self, hit: &Hit<S>, d: Vec3<S>) -> (Vec3<S>, bool) {
         // From the exact product: a large object's inverse transpose has entries of
         // 1/500, which rounded first would leave the normal a few bits.
         let n = if self.shape == Shape::Plane {
@@ -377,9 +383,9 @@ impl<S: Scalar> Object<S> {
             self.normal_to_world.vector_unit(hit.local.n).0
         };
         if n.dot(d) > S::ZERO {
-            -n
+            (-n, false)
         } else {
-            n
+            (n, true)
         }
     }
 
@@ -522,9 +528,15 @@ impl<S: Scalar> Scene<S> {
     /// Whether anything lies on the ray within `t_min < t < t_max`
     /// (stops at the first hit: shadow rays).
     pub fn any_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> bool {
+        self.any_hit_except(o, d, t_min, t_max, None)
+    }
+
+    /// [`Scene::any_hit`] without object `skip` (if given).
+    fn any_hit_except(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, skip: Option<usize>) -> bool {
         self.objects
             .iter()
-            .any(|obj| obj.intersect(o, d, t_min, t_max).is_some())
+            .enumerate()
+            .any(|(i, obj)| Some(i) != skip && obj.intersect(o, d, t_min, t_max).is_some())
     }
 
     /// The colour seen along the ray `o + t d` (unit `d`), unclamped.
@@ -555,7 +567,12 @@ impl<S: Scalar> Scene<S> {
         };
         let obj = &self.objects[i];
         let p = o + d * hit.t;
-        let n = obj.normal(&hit, d);
+        let (n, outside) = obj.facing_normal(&hit, d);
+        // Every shape is convex: a shadow ray leaving the lit side of its own
+        // surface never meets it again, so it is not tested (at a large
+        // object's magnitudes no fixed offset clears Q16.16's rounding). Seen
+        // from inside, the ray crosses the object and the far wall counts.
+        let own = (outside || obj.shape == Shape::Plane).then_some(i);
         let v = -d;
         let m = &obj.material;
         let (ka, kd) = if obj.in_dark_square(&hit) {
@@ -579,7 +596,7 @@ impl<S: Scalar> Scene<S> {
             if n_dot_l <= S::ZERO {
                 continue;
             }
-            if self.shadows && self.any_hit(p_shadow, l, S::EPSILON, dist) {
+            if self.shadows && self.any_hit_except(p_shadow, l, S::EPSILON, dist, own) {
                 continue;
             }
             let r = n * n_dot_l.add(n_dot_l) - l;
