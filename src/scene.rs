@@ -396,7 +396,8 @@ impl<S: Scalar> Object<S> {
         }
         let p = hit.local.p;
         let k = self.inv_texture;
-        let sum = p.x.mul(k).floor_i32() as i64 + p.y.mul(k).floor_i32() as i64 + p.z.mul(k).floor_i32() as i64;
+        let cell = |x: S| S::checker_cell(x, self.texture, k);
+        let sum = cell(p.x) + cell(p.y) + cell(p.z);
         sum & 1 == 1
     }
 }
@@ -572,7 +573,7 @@ impl<S: Scalar> Scene<S> {
         // surface never meets it again, so it is not tested (at a large
         // object's magnitudes no fixed offset clears Q16.16's rounding). Seen
         // from inside, the ray crosses the object and the far wall counts.
-        let own = (outside || obj.shape == Shape::Plane).then_some(i);
+        let own = (S::SHADOW_SKIPS_OWN_CONVEX && (outside || obj.shape == Shape::Plane)).then_some(i);
         let v = -d;
         let m = &obj.material;
         let (ka, kd) = if obj.in_dark_square(&hit) {

@@ -29,6 +29,24 @@ fn main() {
             only_fixed_bg += (ia && !ib) as u32;
             only_float_bg += (ib && !ia) as u32;
         }
+        if std::env::var("PIXELS").is_ok() && samples.is_none() {
+            let rf = lensray::Renderer::new(&fixed, w, h);
+            let rg = lensray::Renderer::new(&float, w, h);
+            let mut shown = 0;
+            for i in 0..(w * h) as usize {
+                let (pa, pb) = (px(&a, i), px(&b, i));
+                let e = [pa.r().abs_diff(pb.r()), pa.g().abs_diff(pb.g()), pa.b().abs_diff(pb.b())];
+                if e.iter().copied().max().unwrap() > 20 && shown < 12 {
+                    shown += 1;
+                    let (c, r) = (i as u32 % w, i as u32 / w);
+                    let hf = fixed.closest_hit_camera_ray(&rf.camera().chief_ray_from(&rf.camera().film_point(c, r)), rf.cones());
+                    let hg = float.closest_hit_camera_ray(&rg.camera().chief_ray_from(&rg.camera().film_point(c, r)), rg.cones());
+                    let fmt_f = hf.map(|(k, h)| (k, h.t.to_num::<f64>(), h.local.p.x.to_num::<f64>(), h.local.p.y.to_num::<f64>(), h.local.p.z.to_num::<f64>()));
+                    let fmt_g = hg.map(|(k, h)| (k, h.t, h.local.p.x, h.local.p.y, h.local.p.z));
+                    println!("  ({c},{r}) {:?} vs {:?}: Q {fmt_f:?} f32 {fmt_g:?}", pa, pb);
+                }
+            }
+        }
         fixed.shadows = false;
         float.shadows = false;
         let (a2, b2) = render_both(&fixed, &float, w, h, samples);
