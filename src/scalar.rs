@@ -51,11 +51,17 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     /// images stay as they were).
     const SHADOW_SKIPS_OWN_CONVEX: bool;
 
-    /// The checker cell index along one axis, `floor(x / side)`, with
-    /// `inv_side` about `1 / side`.
+    /// The checker's scale for a square side `side` (> 0), as
+    /// [`Scalar::checker_cell`] takes it: `1 / side` by default. Set-up only.
+    fn checker_scale(side: f64) -> Self {
+        Self::from_f64(1.0 / side)
+    }
+
+    /// The checker cell index along one axis, `floor(x / side)`, with `side`
+    /// the square side in `Self` and `scale` from [`Scalar::checker_scale`].
     #[inline]
-    fn checker_cell(x: Self, _side: Self, inv_side: Self) -> i64 {
-        x.mul(inv_side).floor_i32() as i64
+    fn checker_cell(x: Self, _side: Self, scale: Self) -> i64 {
+        x.mul(scale).floor_i32() as i64
     }
 
     /// One row of an affine matrix, stored more precisely than `Self`
@@ -441,16 +447,24 @@ impl Scalar for I16F16 {
     const EPSILON: Self = I16F16::from_bits(64);
     const NAME: &'static str = "Q16.16";
     const SHADOW_SKIPS_OWN_CONVEX: bool = true;
-    #[inline]
-    fn checker_cell(x: Self, side: Self, _inv_side: Self) -> i64 {
-        // Exact floor division of the bits: the side is held to 2^-17, its
-        // Q16.16 reciprocal only to 2^-17 absolute (a border 45 away moved by
-        // 2e-3 and flipped whole rows of squares).
-        let (x, d) = (x.to_bits(), side.to_bits());
-        if d <= 0 {
-            return 0;
+    fn checker_scale(side: f64) -> Self {
+        // 1 / side as a 31-bit mantissa m = 2^(30 + b) / (side 2^16), b the
+        // bit length of the side's Q16.16 bits: a Q16.16 reciprocal keeps
+        // only 2^-17 absolute, and moved a border 45 away by 2e-3 (whole rows
+        // of squares flipped).
+        let bits = Self::from_f64(side).to_bits();
+        if bits <= 0 {
+            return Self::ZERO;
         }
-        x.div_euclid(d) as i64
+        let b = 32 - bits.leading_zeros() as i32;
+        let m = libm::round(libm::exp2((14 + b) as f64) / side);
+        I16F16::from_bits(m.min(i32::MAX as f64) as i32)
+    }
+    #[inline]
+    fn checker_cell(x: Self, side: Self, scale: Self) -> i64 {
+        // floor(x m / 2^(30 + b)), exactly: both factors below 2^31.
+        let b = 32 - side.to_bits().leading_zeros();
+        mul_i32(x.to_bits(), scale.to_bits()) >> (30 + b)
     }
     type Row = FixedRow;
     type Acc = i64;

@@ -224,7 +224,7 @@ pub struct Object<S: Scalar> {
     pub material: Material<S>,
     /// Checker square side in object space; 0 is no texture.
     pub texture: S,
-    /// 1 / texture (0 without texture), precomputed for the per-hit floor.
+    /// 1 / texture (0 without texture) as [`Scalar::checker_scale`] holds it.
     inv_texture: S,
     /// World → object.
     to_object: Affine<S>,
@@ -297,7 +297,7 @@ impl<S: Scalar> Object<S> {
             },
             texture: S::from_f64(desc.texture),
             inv_texture: if desc.texture > 0.0 {
-                S::from_f64(1.0 / desc.texture)
+                S::checker_scale(desc.texture)
             } else {
                 S::ZERO
             },
