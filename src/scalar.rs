@@ -448,8 +448,9 @@ impl Scalar for I16F16 {
     const NAME: &'static str = "Q16.16";
     const SHADOW_SKIPS_OWN_CONVEX: bool = true;
     fn checker_scale(side: f64) -> Self {
-        // 1 / side as a 31-bit mantissa m = 2^(30 + b) / (side 2^16), b the
-        // bit length of the side's Q16.16 bits: a Q16.16 reciprocal keeps
+        // 1 / side as a mantissa m = 2^(29 + b) / (side 2^16) in (2^29, 2^30],
+        // b the bit length of the side's Q16.16 bits (exact for a power of
+        // two, which a face snapped onto a border needs): a Q16.16 reciprocal keeps
         // only 2^-17 absolute, and moved a border 45 away by 2e-3 (whole rows
         // of squares flipped).
         let bits = Self::from_f64(side).to_bits();
@@ -457,14 +458,14 @@ impl Scalar for I16F16 {
             return Self::ZERO;
         }
         let b = 32 - bits.leading_zeros() as i32;
-        let m = libm::round(libm::exp2((14 + b) as f64) / side);
-        I16F16::from_bits(m.min(i32::MAX as f64) as i32)
+        let m = libm::round(libm::exp2((13 + b) as f64) / side);
+        I16F16::from_bits(m.min((1u32 << 30) as f64) as i32)
     }
     #[inline]
     fn checker_cell(x: Self, side: Self, scale: Self) -> i64 {
-        // floor(x m / 2^(30 + b)), exactly: both factors below 2^31.
+        // floor(x m / 2^(29 + b)), exactly: both factors below 2^31.
         let b = 32 - side.to_bits().leading_zeros();
-        mul_i32(x.to_bits(), scale.to_bits()) >> (30 + b)
+        mul_i32(x.to_bits(), scale.to_bits()) >> (29 + b)
     }
     type Row = FixedRow;
     type Acc = i64;
