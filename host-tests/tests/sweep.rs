@@ -36,19 +36,42 @@ fn small_generated_scenes_meet_the_floors() {
     assert!(summary.median >= 55.0, "median {:.1} dB", summary.median);
 }
 
+/// The `.scene` files of a corpus folder, sorted.
+fn corpus(sub: &str) -> Vec<std::path::PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("corpus").join(sub);
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("corpus")
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "scene"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// The corpus files under the given floors at 160x120, described.
+fn under(files: &[std::path::PathBuf], psnr: f64, within2: f64, line: f64) -> Vec<String> {
+    files
+        .iter()
+        .map(|f| (f, measure(&std::fs::read_to_string(f).unwrap(), 0, 160, 120)))
+        .filter(|(_, r)| !r.meets(psnr, within2, line))
+        .map(|(f, r)| format!("{}: {:.1} dB {:.3} line {:.2}", f.display(), r.psnr, r.within2, r.worst_line))
+        .collect()
+}
+
 #[test]
 fn every_regression_scene_meets_the_floors() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("corpus/sweep-regressions");
-    let mut files: Vec<_> = std::fs::read_dir(&dir).expect("corpus").map(|e| e.unwrap().path()).collect();
-    files.sort();
-    assert!(files.len() >= 29, "the corpus lost scenes");
-    let mut bad = Vec::new();
-    for f in &files {
-        let text = std::fs::read_to_string(f).unwrap();
-        let r = measure(&text, 0, 160, 120);
-        if !r.meets(MIN_PSNR, MIN_WITHIN2, MAX_LINE_160) {
-            bad.push(format!("{}: {:.1} dB {:.3} line {:.2}", f.display(), r.psnr, r.within2, r.worst_line));
-        }
-    }
+    let files = corpus("sweep-regressions");
+    assert!(files.len() >= 35, "the corpus lost scenes");
+    let bad = under(&files, MIN_PSNR, MIN_WITHIN2, MAX_LINE_160);
     assert!(bad.is_empty(), "under the floors: {bad:?}");
+}
+
+/// Scenes still under a floor after the fixes (docs/accuracy.md, "What
+/// remains"): held where they are, so that they cannot get worse unseen.
+#[test]
+fn open_regression_scenes_get_no_worse() {
+    let files = corpus("sweep-regressions/open");
+    assert!(files.len() >= 5, "the corpus lost scenes");
+    let bad = under(&files, MIN_PSNR, 0.99, 3.5);
+    assert!(bad.is_empty(), "worse than when filed: {bad:?}");
 }
