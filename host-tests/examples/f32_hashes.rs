@@ -30,7 +30,10 @@ fn main() {
     let count: u64 = args[0].parse().expect("count");
     for seed in 0..count {
         for camera in [Camera::Pinhole, Camera::Lens] {
-            hash(&lensray_host::sweep::scene_text(seed, camera), &format!("{seed} {camera:?}"));
+            hash(
+                &lensray_host::sweep::scene_text(seed, camera),
+                &format!("{seed} {camera:?}"),
+            );
         }
     }
     for f in &args[1..] {

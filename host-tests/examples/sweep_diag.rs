@@ -1,8 +1,8 @@
 //! Classifies a failing sweep scene: `sweep_diag FILE...` prints its PSNR as
 //! is, with shadows off, and the pixels one number type draws as background
 //! where the other draws an object (the missing-horizon class).
-use lensray::{Scene, I16F16};
 use embedded_graphics::pixelcolor::RgbColor;
+use lensray::{Scene, I16F16};
 use lensray_host::{render_both, Diff, LineErrors};
 
 fn main() {
@@ -17,7 +17,9 @@ fn main() {
         let (a, b) = render_both(&fixed, &float, w, h, samples);
         let d = Diff::of(&a, &b).unwrap();
         let l = LineErrors::of(&a, &b).unwrap();
-        let bg = |s: &Scene<f32>| [s.background.x, s.background.y, s.background.z].map(|x| (x.clamp(0.0, 1.0) * 255.0).round() as u8);
+        let bg = |s: &Scene<f32>| {
+            [s.background.x, s.background.y, s.background.z].map(|x| (x.clamp(0.0, 1.0) * 255.0).round() as u8)
+        };
         let bgc = bg(&float);
         let px = |img: &lensray_host::Image, i: usize| img.pixels[i];
         let mut only_fixed_bg = 0;
@@ -35,13 +37,27 @@ fn main() {
             let mut shown = 0;
             for i in 0..(w * h) as usize {
                 let (pa, pb) = (px(&a, i), px(&b, i));
-                let e = [pa.r().abs_diff(pb.r()), pa.g().abs_diff(pb.g()), pa.b().abs_diff(pb.b())];
+                let e = [
+                    pa.r().abs_diff(pb.r()),
+                    pa.g().abs_diff(pb.g()),
+                    pa.b().abs_diff(pb.b()),
+                ];
                 if e.iter().copied().max().unwrap() > 20 && shown < 12 {
                     shown += 1;
                     let (c, r) = (i as u32 % w, i as u32 / w);
-                    let hf = fixed.closest_hit_camera_ray(&rf.camera().chief_ray_from(&rf.camera().film_point(c, r)), rf.cones());
-                    let hg = float.closest_hit_camera_ray(&rg.camera().chief_ray_from(&rg.camera().film_point(c, r)), rg.cones());
-                    let fmt_f = hf.map(|(k, h)| (k, h.t.to_num::<f64>(), h.local.p.x.to_num::<f64>(), h.local.p.y.to_num::<f64>(), h.local.p.z.to_num::<f64>()));
+                    let hf = fixed
+                        .closest_hit_camera_ray(&rf.camera().chief_ray_from(&rf.camera().film_point(c, r)), rf.cones());
+                    let hg = float
+                        .closest_hit_camera_ray(&rg.camera().chief_ray_from(&rg.camera().film_point(c, r)), rg.cones());
+                    let fmt_f = hf.map(|(k, h)| {
+                        (
+                            k,
+                            h.t.to_num::<f64>(),
+                            h.local.p.x.to_num::<f64>(),
+                            h.local.p.y.to_num::<f64>(),
+                            h.local.p.z.to_num::<f64>(),
+                        )
+                    });
                     let fmt_g = hg.map(|(k, h)| (k, h.t, h.local.p.x, h.local.p.y, h.local.p.z));
                     println!("  ({c},{r}) {:?} vs {:?}: Q {fmt_f:?} f32 {fmt_g:?}", pa, pb);
                 }

@@ -38,7 +38,9 @@ fn small_generated_scenes_meet_the_floors() {
 
 /// The `.scene` files of a corpus folder, sorted.
 fn corpus(sub: &str) -> Vec<std::path::PathBuf> {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("corpus").join(sub);
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("corpus")
+        .join(sub);
     let mut files: Vec<_> = std::fs::read_dir(&dir)
         .expect("corpus")
         .map(|e| e.unwrap().path())
@@ -54,7 +56,15 @@ fn under(files: &[std::path::PathBuf], psnr: f64, within2: f64, line: f64) -> Ve
         .iter()
         .map(|f| (f, measure(&std::fs::read_to_string(f).unwrap(), 0, 160, 120)))
         .filter(|(_, r)| !r.meets(psnr, within2, line))
-        .map(|(f, r)| format!("{}: {:.1} dB {:.3} line {:.2}", f.display(), r.psnr, r.within2, r.worst_line))
+        .map(|(f, r)| {
+            format!(
+                "{}: {:.1} dB {:.3} line {:.2}",
+                f.display(),
+                r.psnr,
+                r.within2,
+                r.worst_line
+            )
+        })
         .collect()
 }
 
