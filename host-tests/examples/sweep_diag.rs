@@ -1,4 +1,5 @@
-//! Classifies a failing sweep scene: `sweep_diag FILE...` prints its PSNR as
+//! Classifies a failing sweep scene: `sweep_diag FILE...` (PIXELS=1 lists the
+//! worst pixels with both types' hits) prints its PSNR as
 //! is, with shadows off, and the pixels one number type draws as background
 //! where the other draws an object (the missing-horizon class).
 use embedded_graphics::pixelcolor::RgbColor;
