@@ -71,7 +71,7 @@ fn under(files: &[std::path::PathBuf], psnr: f64, within2: f64, line: f64) -> Ve
 #[test]
 fn every_regression_scene_meets_the_floors() {
     let files = corpus("sweep-regressions");
-    assert!(files.len() >= 35, "the corpus lost scenes");
+    assert!(files.len() >= 39, "the corpus lost scenes");
     let bad = under(&files, MIN_PSNR, MIN_WITHIN2, MAX_LINE_160);
     assert!(bad.is_empty(), "under the floors: {bad:?}");
 }
@@ -81,7 +81,8 @@ fn every_regression_scene_meets_the_floors() {
 #[test]
 fn open_regression_scenes_get_no_worse() {
     let files = corpus("sweep-regressions/open");
-    assert!(files.len() >= 5, "the corpus lost scenes");
-    let bad = under(&files, MIN_PSNR, 0.99, 3.5);
+    assert!(files.len() >= 8, "the corpus lost scenes");
+    // The worst of them as filed: 33.0 dB, 99.40 % within 2, a column 8.6 levels off.
+    let bad = under(&files, 32.5, 0.99, 9.0);
     assert!(bad.is_empty(), "worse than when filed: {bad:?}");
 }
