@@ -255,3 +255,88 @@ fn parse_and_bake_errors_are_core_errors() {
     let bake: std::boxed::Box<dyn core::error::Error> = crate::bytes::BakeError::ForeignMagic.into();
     assert!(bake.to_string().contains("LRBK"), "{bake}");
 }
+
+#[test]
+fn checker_cells_are_the_exact_floor_of_x_over_the_side() {
+    // Against floor(x / side) in f64 for the exact side: Q16.16's cell may differ
+    // only where x lies within 2^-28 relative of a border (the held reciprocal).
+    let mut seed = 0x2545_F491u32;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        seed
+    };
+    for side in [0.3, 0.5181, 1.0, 2.0, 2.5, 6.4387, 9.0, 100.0] {
+        let (held, scale) = (
+            I16F16::from_num(side),
+            <I16F16 as crate::number::Kernels>::checker_scale(side),
+        );
+        for _ in 0..20_000 {
+            let x = I16F16::from_bits((next() as i32) >> (next() % 8));
+            let q = x.to_num::<f64>() / side;
+            let cell = <I16F16 as crate::number::Kernels>::checker_cell(x, held, scale);
+            let tol = q.abs() * 4e-9 + 1e-12;
+            assert!(
+                cell as f64 <= q + tol && q - tol < (cell + 1) as f64,
+                "side {side} x {x}: {cell} vs {q}"
+            );
+        }
+        // A point exactly on a border belongs to the cell above it.
+        let on = I16F16::from_num(3.0 * held.to_num::<f64>());
+        if side.log2().fract() == 0.0 {
+            assert_eq!(
+                <I16F16 as crate::number::Kernels>::checker_cell(on, held, scale),
+                3,
+                "side {side}"
+            );
+        }
+    }
+}
+
+#[test]
+fn large_lit_objects_do_not_shadow_themselves() {
+    // Big objects lit at grazing angles: with shadows on, no pixel may be darker
+    // than with shadows off (nothing else is in the scene to cast a shadow).
+    let lights = ["300 40 -180", "-250 200 -100", "0 290 -170", "280 -60 -150"];
+    for (shape, light) in ["sphere", "cylinder", "cone", "cube"]
+        .into_iter()
+        .flat_map(|s| lights.map(move |l| (s, l)))
+    {
+        let text = |shadows: &str| {
+            std::format!(
+                "width 10\nimage_distance 8\nambient_light 0.1 0.1 0.1\nshadows {shadows}\n\
+                 light_position {light}\nlight_intensity 1 1 1\n\
+                 object {shape}\nKd 0.9 0.9 0.9\nrotate x 23\nrotate y 31\nscale 15 12 15\ntranslate 20 -10 -150\n"
+            )
+        };
+        let on = Scene::<I16F16>::parse(&text("on")).unwrap();
+        let off = Scene::<I16F16>::parse(&text("off")).unwrap();
+        let (a, b) = (Renderer::new(&on, 64, 48), Renderer::new(&off, 64, 48));
+        for y in 0..48 {
+            for x in 0..64 {
+                assert_eq!(a.pixel(x, y), b.pixel(x, y), "{shape} {light} ({x}, {y})");
+            }
+        }
+    }
+}
+
+#[test]
+fn plane_hits_beyond_the_range_are_drawn() {
+    // An eye 1000 above an endless floor: the rows just under the horizon lie
+    // 32768 or more away; Q16.16 must draw the floor wherever f32 does.
+    let text = "width 10\nimage_distance 8\nlens_position 0 1000 0\nlook 0 0 -1\nambient_light 1 1 1\n\
+                object plane\nKa 0.5 0.5 0.5\nKd 0 0 0\nrotate x -90\n";
+    let fixed = Scene::<I16F16>::parse(text).unwrap();
+    let float = Scene::<f32>::parse(text).unwrap();
+    let (a, b) = (Renderer::new(&fixed, 160, 120), Renderer::new(&float, 160, 120));
+    let mut far = 0;
+    for y in 0..120 {
+        let floor = |r: &Renderer<'_, f32>| r.pixel(80, y) != Rgb888::new(0, 0, 0);
+        if floor(&b) {
+            assert_ne!(a.pixel(80, y), Rgb888::new(0, 0, 0), "row {y}");
+            far += 1;
+        }
+    }
+    assert!(far > 0);
+}

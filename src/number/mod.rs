@@ -49,7 +49,6 @@ pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::S
     const HIT_EPSILON: Self;
     /// Short human name of the number type ("Q16.16", "f32").
     const NAME: &'static str;
-
     /// Rounds an `f64` to the nearest value of this type, saturating. Set-up only.
     fn from_f64(x: f64) -> Self;
     /// The exact value as `f64` (for tests and reports; never on the per-ray path).
@@ -109,6 +108,20 @@ mod kernels {
     /// the film map and the plane, accumulators. Sealed (its module is private),
     /// so it can change without breaking the public trait.
     pub trait Kernels: Copy + Sized {
+        /// Whether a shadow ray leaving the lit side of a convex object skips
+        /// that object: Q16.16's absolute rounding at a large object's magnitude
+        /// outgrows any fixed offset (f32's relative rounding does not; its
+        /// images stay as they were).
+        const SHADOW_SKIPS_OWN_CONVEX: bool;
+
+        /// The checker's scale for a square side `side` (> 0), as
+        /// [`Kernels::checker_cell`] takes it: `1 / side` by default. Set-up only.
+        fn checker_scale(side: f64) -> Self;
+
+        /// The checker cell index along one axis, `floor(x / side)`, with `side`
+        /// the square side in `Self` and `scale` from [`Kernels::checker_scale`].
+        fn checker_cell(x: Self, side: Self, scale: Self) -> i64;
+
         /// One row of an affine matrix, stored more precisely than `Self`
         /// (Q16.16 keeps up to 30 fraction bits; see `Kernels::row_from_f64`).
         type Row: Copy + core::fmt::Debug + Send + Sync;
@@ -547,6 +560,27 @@ impl Scalar for I16F16 {
 }
 
 impl Kernels for I16F16 {
+    const SHADOW_SKIPS_OWN_CONVEX: bool = true;
+    fn checker_scale(side: f64) -> Self {
+        // 1 / side as a mantissa m = 2^(29 + b) / (side 2^16) in (2^29, 2^30],
+        // b the bit length of the side's Q16.16 bits (exact for a power of
+        // two, which a face snapped onto a border needs): a Q16.16 reciprocal keeps
+        // only 2^-17 absolute, and moved a border 45 away by 2e-3 (whole rows
+        // of squares flipped).
+        let bits = Self::from_f64(side).to_bits();
+        if bits <= 0 {
+            return Self::ZERO;
+        }
+        let b = 32 - bits.leading_zeros() as i32;
+        let m = libm::round(libm::exp2((13 + b) as f64) / side);
+        I16F16::from_bits(m.min((1u32 << 30) as f64) as i32)
+    }
+    #[inline]
+    fn checker_cell(x: Self, side: Self, scale: Self) -> i64 {
+        // floor(x m / 2^(29 + b)), exactly: both factors below 2^31.
+        let b = 32 - side.to_bits().leading_zeros();
+        mul_i32(x.to_bits(), scale.to_bits()) >> (29 + b)
+    }
     type Row = FixedRow;
     type Acc = i64;
     type Dir = FixedDir;
@@ -869,6 +903,14 @@ impl Scalar for f32 {
 }
 
 impl Kernels for f32 {
+    const SHADOW_SKIPS_OWN_CONVEX: bool = false;
+    fn checker_scale(side: f64) -> Self {
+        <f32 as Scalar>::from_f64(1.0 / side)
+    }
+    #[inline]
+    fn checker_cell(x: Self, _side: Self, scale: Self) -> i64 {
+        <f32 as Scalar>::mul(x, scale).floor_i32() as i64
+    }
     type Row = [f32; 4];
     /// f64, so that summing many samples adds no error of its own (the Q16.16
     /// sum is exact in i64): an f32 sum of seventy 0.1s lands below 7 and turns

@@ -153,7 +153,9 @@ pub(crate) fn plane_hit(
     }
     let oz = <I16F16 as crate::number::Kernels>::row_apply(&rows[2], o, true).to_bits() as i64;
     // t = −oz / (row_z · D): Q16.16 bits −oz · 2^(30 + shift) / dz.
-    let t = ratio(-oz, dz, 30 + rows[2].shift);
+    // A hit beyond Q16.16's range is drawn at its edge, not dropped: f32
+    // draws it, and only the direction of a point that far matters.
+    let t = ratio(-oz, dz, 30 + rows[2].shift).min(i32::MAX as i64 - 1);
     if t <= t_min.to_bits() as i64 || t >= t_max.to_bits() as i64 {
         return None;
     }

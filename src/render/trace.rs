@@ -6,6 +6,7 @@ use crate::geometry::ray::Ray;
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
 use crate::render::cull::LensCones;
+use crate::scene::shape::Shape;
 use crate::scene::{Hit, Scene};
 
 impl<S: Scalar> Scene<S> {
@@ -54,9 +55,15 @@ impl<S: Scalar> Scene<S> {
     /// Whether anything lies on the ray within `t_min < t < t_max`
     /// (stops at the first hit: shadow rays).
     pub fn any_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> bool {
+        self.any_hit_except(o, d, t_min, t_max, None)
+    }
+
+    /// [`Scene::any_hit`] without object `skip` (if given).
+    fn any_hit_except(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, skip: Option<usize>) -> bool {
         self.objects
             .iter()
-            .any(|obj| obj.intersect(o, d, t_min, t_max).is_some())
+            .enumerate()
+            .any(|(i, obj)| Some(i) != skip && obj.intersect(o, d, t_min, t_max).is_some())
     }
 
     /// The colour seen along the ray `o + t d` (unit `d`), unclamped.
@@ -87,7 +94,12 @@ impl<S: Scalar> Scene<S> {
         };
         let obj = &self.objects[i];
         let p = o + d * hit.t;
-        let n = obj.normal(&hit, d);
+        let (n, outside) = obj.facing_normal(&hit, d);
+        // Every shape is convex: a shadow ray leaving the lit side of its own
+        // surface never meets it again, so it is not tested (at a large
+        // object's magnitudes no fixed offset clears Q16.16's rounding). Seen
+        // from inside, the ray crosses the object and the far wall counts.
+        let own = (S::SHADOW_SKIPS_OWN_CONVEX && (outside || obj.shape == Shape::Plane)).then_some(i);
         let v = -d;
         let m = &obj.material;
         let (ka, kd) = if obj.in_dark_square(&hit) {
@@ -111,7 +123,7 @@ impl<S: Scalar> Scene<S> {
             if n_dot_l <= S::ZERO {
                 continue;
             }
-            if self.shadows && self.any_hit(p_shadow, l, S::HIT_EPSILON, dist) {
+            if self.shadows && self.any_hit_except(p_shadow, l, S::HIT_EPSILON, dist, own) {
                 continue;
             }
             let r = n * n_dot_l.add(n_dot_l) - l;

@@ -139,7 +139,7 @@ pub struct Object<S: Scalar> {
     pub material: Material<S>,
     /// Checker square side in object space; 0 is no texture.
     pub texture: S,
-    /// 1 / texture (0 without texture), precomputed for the per-hit floor.
+    /// 1 / texture (0 without texture) as `Kernels::checker_scale` holds it.
     inv_texture: S,
     /// World → object.
     to_object: Affine<S>,
@@ -212,7 +212,7 @@ impl<S: Scalar> Object<S> {
             },
             texture: S::from_f64(desc.texture),
             inv_texture: if desc.texture > 0.0 {
-                S::from_f64(1.0 / desc.texture)
+                S::checker_scale(desc.texture)
             } else {
                 S::ZERO
             },
@@ -286,6 +286,12 @@ impl<S: Scalar> Object<S> {
 
     /// The world-space unit normal at a hit, turned to face against `d`.
     pub fn normal(&self, hit: &Hit<S>, d: Vec3<S>) -> Vec3<S> {
+        self.facing_normal(hit, d).0
+    }
+
+    /// [`Object::normal`], and whether it is the outward normal (the ray
+    /// came from outside the object) rather than its opposite.
+    pub fn facing_normal(&self, hit: &Hit<S>, d: Vec3<S>) -> (Vec3<S>, bool) {
         // From the exact product: a large object's inverse transpose has entries of
         // 1/500, which rounded first would leave the normal a few bits.
         let n = if self.shape == Shape::Plane {
@@ -294,9 +300,9 @@ impl<S: Scalar> Object<S> {
             self.normal_to_world.vector_unit(hit.local.n).0
         };
         if n.dot(d) > S::ZERO {
-            -n
+            (-n, false)
         } else {
-            n
+            (n, true)
         }
     }
 
@@ -307,7 +313,8 @@ impl<S: Scalar> Object<S> {
         }
         let p = hit.local.p;
         let k = self.inv_texture;
-        let sum = p.x.mul(k).floor_i32() as i64 + p.y.mul(k).floor_i32() as i64 + p.z.mul(k).floor_i32() as i64;
+        let cell = |x: S| S::checker_cell(x, self.texture, k);
+        let sum = cell(p.x) + cell(p.y) + cell(p.z);
         sum & 1 == 1
     }
 }
