@@ -1,5 +1,5 @@
 //! lensray's firmware for QEMU's `microbit` (Cortex-M0), `mps2-an385`
-//! (Cortex-M3) and `mps2-an386` (Cortex-M4F) machines.
+//! (Cortex-M3), `mps2-an386` (Cortex-M4F) and `sifive_e` (RV32IMAC) machines.
 //!
 //! It loads a scene baked at build time into flash (`lensray::baked`; with
 //! the feature `parse-on-device` it parses the scene's text instead), renders it one scanline at a time into
@@ -19,11 +19,14 @@
 mod instruction_count;
 #[cfg(feature = "profile")]
 mod profile;
+#[cfg(target_arch = "riscv32")]
+mod riscv_start;
 mod row_file;
 mod semihosting;
 mod stack_paint;
 
 use core::fmt::Write;
+#[cfg(target_arch = "arm")]
 use cortex_m_rt::{entry, exception, ExceptionFrame};
 #[cfg(feature = "parse-on-device")]
 use lensray::Scene;
@@ -56,6 +59,8 @@ const CORE: &str = if cfg!(feature = "microbit") {
     "Cortex-M0"
 } else if cfg!(feature = "mps2-an385") {
     "Cortex-M3"
+} else if cfg!(feature = "sifive-e") {
+    "RV32IMAC"
 } else {
     "Cortex-M4F"
 };
@@ -113,20 +118,45 @@ fn renderer(loaded: &Loaded) -> Renderer<'_, Number> {
     loaded.renderer()
 }
 
-#[entry]
-fn main() -> ! {
-    let paint = stack_paint::paint();
-    let Ok(mut console) = HostFile::console() else { exit(1) };
+/// The instruction counter: SysTick on Arm.
+#[cfg(target_arch = "arm")]
+fn counter() -> instruction_count::Counter {
     let Some(peripherals) = cortex_m::Peripherals::take() else {
         exit(1)
     };
+    instruction_count::Counter::start(peripherals.SYST)
+}
+
+/// The instruction counter: `mcycle` on RISC-V.
+#[cfg(target_arch = "riscv32")]
+fn counter() -> instruction_count::Counter {
+    instruction_count::Counter::start()
+}
+
+/// Executes an undefined instruction, to test the fault handler.
+fn fault() {
+    // SAFETY: faults on purpose; the handler exits.
+    #[cfg(target_arch = "arm")]
+    unsafe {
+        core::arch::asm!("udf #0")
+    };
+    // SAFETY: as above.
+    #[cfg(target_arch = "riscv32")]
+    unsafe {
+        core::arch::asm!("unimp")
+    };
+}
+
+#[cfg_attr(target_arch = "arm", entry)]
+fn main() -> ! {
+    let paint = stack_paint::paint();
+    let Ok(mut console) = HostFile::console() else { exit(1) };
     match FAULT {
         "panic" => panic!("failing on purpose (LENSRAY_FAULT=panic)"),
-        // SAFETY: an undefined instruction, to test the HardFault handler.
-        "hardfault" => unsafe { core::arch::asm!("udf #0") },
+        "hardfault" => fault(),
         _ => {}
     }
-    let counter = instruction_count::Counter::start(peripherals.SYST);
+    let counter = counter();
 
     #[cfg(feature = "profile")]
     {
@@ -211,6 +241,7 @@ fn new_loaded() -> Loaded {
     Loaded::empty()
 }
 
+#[cfg(target_arch = "arm")]
 #[exception]
 unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
     if let Ok(mut console) = HostFile::console() {
@@ -219,6 +250,7 @@ unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
     exit(3)
 }
 
+#[cfg(target_arch = "arm")]
 #[exception]
 unsafe fn DefaultHandler(irq: i16) {
     if let Ok(mut console) = HostFile::console() {

@@ -1,5 +1,6 @@
-//! Arm semihosting calls (`bkpt 0xAB`): files on the host, a console, and an
-//! exit status. QEMU serves them with `-semihosting-config enable=on,target=native`.
+//! Semihosting calls (Arm: `bkpt 0xAB`; RISC-V: `ebreak` between two marker
+//! instructions): files on the host, a console, and an exit status. QEMU
+//! serves them with `-semihosting-config enable=on,target=native`.
 
 use core::fmt;
 
@@ -21,12 +22,38 @@ const MODE_WRITE: u32 = 4;
 ///
 /// `arg` must point to the argument block `op` expects (and what it points to
 /// must stay valid for the call).
+#[cfg(target_arch = "arm")]
 #[inline(always)]
 unsafe fn call(op: u32, arg: usize) -> i32 {
     let mut r0 = op;
     // The host reads and writes our memory during the call: no `nomem`.
     core::arch::asm!("bkpt #0xab", inout("r0") r0, in("r1") arg, options(nostack, preserves_flags));
     r0 as i32
+}
+
+/// One semihosting call (see the Arm version above).
+///
+/// # Safety
+///
+/// As for Arm: `arg` must point to the argument block `op` expects.
+#[cfg(target_arch = "riscv32")]
+#[inline(always)]
+unsafe fn call(op: u32, arg: usize) -> i32 {
+    let mut a0 = op;
+    // The marked `ebreak`: three uncompressed instructions on one page.
+    core::arch::asm!(
+        ".balign 16",
+        ".option push",
+        ".option norvc",
+        "slli x0, x0, 0x1f",
+        "ebreak",
+        "srai x0, x0, 0x7",
+        ".option pop",
+        inout("a0") a0,
+        in("a1") arg,
+        options(nostack, preserves_flags)
+    );
+    a0 as i32
 }
 
 /// Ends the emulation with `status` as QEMU's own exit status.

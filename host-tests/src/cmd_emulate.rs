@@ -31,7 +31,7 @@ struct Board {
     qemu: &'static [&'static str],
 }
 
-const BOARDS: [Board; 3] = [
+const BOARDS: [Board; 4] = [
     Board {
         name: "microbit",
         target: "thumbv6m-none-eabi",
@@ -52,6 +52,14 @@ const BOARDS: [Board; 3] = [
         features: "mps2-an386,hw-sqrt",
         qemu_program: "qemu-system-arm",
         qemu: &["-machine", "mps2-an386", "-cpu", "cortex-m4"],
+    },
+    // 32-bit RISC-V without an FPU (SiFive FE310, rv32imac): the ESP32-C3 / CH32V class.
+    Board {
+        name: "sifive-e",
+        target: "riscv32imac-unknown-none-elf",
+        features: "sifive-e",
+        qemu_program: "qemu-system-riscv32",
+        qemu: &["-machine", "sifive_e"],
     },
 ];
 

@@ -5,7 +5,7 @@
 //!                      [--sampler independent|stratified]
 //!                      [--passes DIR [--first-step S] [--preview-samples P]] [--panel rgb565]
 //! lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT] [render options]
-//! lensray emulate SCENE --board microbit|mps2-an385|mps2-an386|pico [-o OUT] [--width W] [--height H] [--samples N] [--float]
+//! lensray emulate SCENE --board microbit|mps2-an385|mps2-an386|sifive-e|pico [-o OUT] [--width W] [--height H] [--samples N] [--float]
 //! lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
 //! lensray compare A.bmp B.bmp [--diff OUT]
 //! lensray bake SCENE [-o FILE] [--width W] [--height H] [--samples N] [--float]
@@ -32,7 +32,7 @@ pub(crate) const USAGE: &str = "usage:
                        [--passes DIR [--first-step S] [--preview-samples P]] [--panel rgb565]
   lensray sheet SCENE... [-o SHEET] [--columns C] [--title TEXT]
                        [--width W] [--height H] [--samples N] [--float] [--adaptive on|off]
-  lensray emulate SCENE --board microbit|mps2-an385|mps2-an386|pico [-o OUT] [--width W] [--height H]
+  lensray emulate SCENE --board microbit|mps2-an385|mps2-an386|sifive-e|pico [-o OUT] [--width W] [--height H]
                   [--samples N] [--float] [--soft-sqrt] [--parse-on-device] [--timeout SECONDS]
   lensray compare SCENE [--width W] [--height H] [--samples N] [--diff OUT]
   lensray compare A B [--diff OUT]
@@ -56,14 +56,16 @@ pub(crate) const USAGE: &str = "usage:
            C a row (default up to 4), each captioned with its file name and
            camera, under an optional title, into SHEET (default sheet.png).
   emulate  builds the firmware (../firmware) with the scene embedded, runs it
-           under QEMU on the board (qemu-system-arm, instruction counting on),
+           under QEMU on the board (qemu-system-arm or -riscv32, instruction
+           counting on),
            writes the image the board rendered to OUT (default: the scene's
            name, -BOARD.bmp) and prints its instructions per pixel and memory
            use. --width defaults to 160; --soft-sqrt takes f32 square roots in
            software even on the FPU board; --parse-on-device embeds the
            scene's text and parses it on the board instead of the scene
            baked at build time; --timeout (3600 s) bounds the run. Boards:
-           microbit (Cortex-M0), mps2-an385 (Cortex-M3), mps2-an386 (Cortex-M4F).
+           microbit (Cortex-M0), mps2-an385 (Cortex-M3), mps2-an386 (Cortex-M4F),
+           sifive-e (32-bit RISC-V without FPU, rv32imac; qemu-system-misc).
            --board pico builds firmware/pico and runs it under rp2040js (Node)
            with a model of its ST7789 panel: writes what the panel shows (equal
            to render --panel rgb565) and prints cycles a pixel and the frame's
