@@ -82,7 +82,11 @@ fn main() {
     }
     println!("cargo:rerun-if-changed={}", memory_x.display());
     let map = fs::read(memory_x).unwrap_or_else(|e| fail(&format!("{}: {e}", memory_x.display())));
-    let script = if target.starts_with("riscv") { "link-riscv.x" } else { "memory.x" };
+    let script = if target.starts_with("riscv") {
+        "link-riscv.x"
+    } else {
+        "memory.x"
+    };
     fs::write(out.join(script), map).unwrap_or_else(|e| fail(&format!("cannot write {script}: {e}")));
     // cortex-m-rt's link.x includes memory.x from the search path. Link
     // arguments set here, not in .cargo/config.toml, survive a RUSTFLAGS variable.

@@ -2,8 +2,6 @@
 //! stack pointers, copy `.data`, clear `.bss`, install the trap handler and
 //! call [`main`](crate::main). Sections and symbols: boards/sifive-e/link.x.
 
-use core::fmt::Write;
-
 use crate::semihosting::{exit, HostFile};
 
 core::arch::global_asm!(
@@ -50,7 +48,12 @@ extern "C" fn trap() -> ! {
         core::arch::asm!("csrr {0}, mcause", "csrr {1}, mepc", out(reg) cause, out(reg) pc, options(nomem, nostack));
     }
     if let Ok(mut console) = HostFile::console() {
-        let _ = writeln!(console, "HardFault (trap, mcause {cause}) at pc {pc:#010x}");
+        console
+            .text("HardFault (trap, mcause ")
+            .num(cause as u64)
+            .text(") at pc ")
+            .hex(pc as u32)
+            .text("\n");
     }
     exit(3)
 }

@@ -124,6 +124,44 @@ impl HostFile {
     }
 }
 
+/// Text and numbers without `core::fmt`: its formatting machinery (some
+/// 5 KiB of flash) stays out of the baked firmware.
+impl HostFile {
+    /// Writes `s` (errors are the caller's to ignore: there is no one to tell).
+    pub fn text(&mut self, s: &str) -> &mut HostFile {
+        let _ = self.write_all(s.as_bytes());
+        self
+    }
+
+    /// Writes `n` in decimal.
+    pub fn num(&mut self, n: u64) -> &mut HostFile {
+        let mut buf = [0u8; 20];
+        let mut i = buf.len();
+        let mut n = n;
+        loop {
+            i -= 1;
+            buf[i] = b'0' + (n % 10) as u8;
+            n /= 10;
+            if n == 0 {
+                break;
+            }
+        }
+        let _ = self.write_all(&buf[i..]);
+        self
+    }
+
+    /// Writes `n` as `0x` and eight hex digits.
+    pub fn hex(&mut self, n: u32) -> &mut HostFile {
+        let mut buf = *b"0x00000000";
+        for (k, b) in buf[2..].iter_mut().enumerate() {
+            let d = (n >> (28 - 4 * k)) & 0xF;
+            *b = if d < 10 { b'0' + d as u8 } else { b'a' + d as u8 - 10 };
+        }
+        let _ = self.write_all(&buf);
+        self
+    }
+}
+
 impl fmt::Write for HostFile {
     fn write_str(&mut self, s: &str) -> fmt::Result {
         self.write_all(s.as_bytes()).map_err(|_| fmt::Error)
