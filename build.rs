@@ -13,7 +13,11 @@ fn main() {
         println!("cargo:rustc-cfg=lensray_v6m");
     }
     // 32-bit cores with a 32 / 32 divide but no 64-bit one: Cortex-M3/M4/M7, RV32IM.
-    let rv32m = target.starts_with("riscv32") && target["riscv32".len()..].split('-').next().is_some_and(|e| e.contains('m'));
+    let rv32m = target.starts_with("riscv32")
+        && target["riscv32".len()..]
+            .split('-')
+            .next()
+            .is_some_and(|e| e.contains('m'));
     if target.starts_with("thumbv7") || target.starts_with("thumbv8m.main") || rv32m {
         println!("cargo:rustc-cfg=lensray_hwdiv");
     }

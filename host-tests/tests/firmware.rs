@@ -441,7 +441,12 @@ fn a_panic_or_a_hardfault_exits_non_zero_instead_of_hanging() {
         ("microbit", "hardfault", "exit status 3", "HardFault at pc"),
         ("mps2-an386", "hardfault", "exit status 3", "HardFault at pc"),
         // RISC-V: an illegal instruction traps to the start-up's handler.
-        ("sifive-e", "hardfault", "exit status 3", "HardFault (trap, mcause 2) at pc"),
+        (
+            "sifive-e",
+            "hardfault",
+            "exit status 3",
+            "HardFault (trap, mcause 2) at pc",
+        ),
         ("sifive-e", "panic", "exit status 101", "failing on purpose"),
     ] {
         let o = emulate_fault(board, fault);
