@@ -47,7 +47,8 @@ fn main() {
     let out = PathBuf::from(env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let target = env::var("TARGET").unwrap_or_default();
 
-    // The board: its memory map, and the target it needs.
+    // The board: its memory map (cortex-m-rt's link.x includes it) or, on
+    // RISC-V, its whole linker script, and the target it needs.
     let boards = [
         ("microbit", manifest.join("../memory.x"), "thumbv6m-none-eabi"),
         (
@@ -61,6 +62,11 @@ fn main() {
             manifest.join("boards/mps2-an386/memory.x"),
             "thumbv7m-none-eabi",
         ),
+        (
+            "sifive-e",
+            manifest.join("boards/sifive-e/link.x"),
+            "riscv32imac-unknown-none-elf",
+        ),
     ];
     let chosen: Vec<_> = boards
         .iter()
@@ -69,19 +75,28 @@ fn main() {
         })
         .collect();
     let [(board, memory_x, want_target)] = chosen.as_slice() else {
-        fail("pick exactly one board feature: --features microbit (--target thumbv6m-none-eabi), mps2-an385 (--target thumbv7m-none-eabi) or mps2-an386 (--target thumbv7em-none-eabihf)");
+        fail("pick exactly one board feature: --features microbit (--target thumbv6m-none-eabi), mps2-an385 (--target thumbv7m-none-eabi), mps2-an386 (--target thumbv7em-none-eabihf) or sifive-e (--target riscv32imac-unknown-none-elf)");
     };
     if target != *want_target {
         fail(&format!("board {board} needs --target {want_target}, not {target}"));
     }
     println!("cargo:rerun-if-changed={}", memory_x.display());
     let map = fs::read(memory_x).unwrap_or_else(|e| fail(&format!("{}: {e}", memory_x.display())));
-    fs::write(out.join("memory.x"), map).unwrap_or_else(|e| fail(&format!("cannot write memory.x: {e}")));
+    let script = if target.starts_with("riscv") {
+        "link-riscv.x"
+    } else {
+        "memory.x"
+    };
+    fs::write(out.join(script), map).unwrap_or_else(|e| fail(&format!("cannot write {script}: {e}")));
     // cortex-m-rt's link.x includes memory.x from the search path. Link
     // arguments set here, not in .cargo/config.toml, survive a RUSTFLAGS variable.
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rustc-link-arg-bins=--nmagic");
-    println!("cargo:rustc-link-arg-bins=-Tlink.x");
+    if target.starts_with("riscv") {
+        println!("cargo:rustc-link-arg-bins=-Tlink-riscv.x");
+    } else {
+        println!("cargo:rustc-link-arg-bins=-Tlink.x");
+    }
 
     // The scene, checked now with the renderer's own parser.
     let scene_path = match var("LENSRAY_SCENE") {

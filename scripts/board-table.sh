@@ -29,6 +29,7 @@ boards=(
   "microbit Cortex-M0 thumbv6m-none-eabi 16 nRF51 (micro:bit)"
   "mps2-an385 Cortex-M3 thumbv7m-none-eabi 72 STM32F103"
   "mps2-an386 Cortex-M4F thumbv7em-none-eabihf 168 STM32F4"
+  "sifive-e RV32IMAC riscv32imac-unknown-none-elf 160 ESP32-C3"
 )
 table="| board (core) | number | pinhole instr./pixel | lens instr./ray (16 samples) | flash (.text+.rodata), baked | static RAM | peak stack, baked | flash, parsed on device | peak stack, parsed |
 |---|---|---|---|---|---|---|---|---|"

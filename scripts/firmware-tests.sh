@@ -2,7 +2,7 @@
 # The firmware's checks, run by scripts/test-all.sh (or alone):
 #   bash scripts/firmware-tests.sh
 # Installs what is missing (thumb targets, qemu-system-arm, a size tool, Node
-# and rp2040js), then: format and lint of the firmware crates (outside the main
+# and rp2040js; the RISC-V target and qemu-system-riscv32), then: format and lint of the firmware crates (outside the main
 # workspace, so the workspace's clippy does not see them), the QEMU tests (both
 # boards, bit for bit against the host's render, instruction counts, RAM,
 # faults), the Raspberry Pi Pico under rp2040js (its ST7789 model's own tests,
@@ -21,16 +21,18 @@ step "firmware: tools"
 # shellcheck source=firmware-tools.sh
 source "$root/scripts/firmware-tools.sh"
 qemu-system-arm --version | head -1
+qemu-system-riscv32 --version | head -1
 echo "size tool: $size_tool"
 
 cd "$root/firmware"
-step "firmware: format and lint (microbit, mps2-an385, mps2-an386, pico)"
+step "firmware: format and lint (microbit, mps2-an385, mps2-an386, sifive-e, pico)"
 cargo fmt --all --check
 cargo clippy --release --features microbit --target thumbv6m-none-eabi -- -D warnings
 cargo clippy --release --features microbit,profile --target thumbv6m-none-eabi -- -D warnings
 cargo clippy --release --features microbit,parse-on-device --target thumbv6m-none-eabi -- -D warnings
 cargo clippy --release --features mps2-an385 --target thumbv7m-none-eabi -- -D warnings
 cargo clippy --release --features mps2-an386,hw-sqrt --target thumbv7em-none-eabihf -- -D warnings
+cargo clippy --release --features sifive-e --target riscv32imac-unknown-none-elf -- -D warnings
 cargo clippy --release -p lensray-pico --target thumbv6m-none-eabi -- -D warnings
 
 step "firmware: Raspberry Pi Pico with an ST7789 panel (the default build: Program 1, 320x240, 8 rays)"
@@ -51,7 +53,7 @@ echo "Pico tests took $(( $(date +%s) - start )) s (builds included)"
 
 step "firmware: memory of the default build (Program 1, 160x120, 4 rays a pixel)"
 cd "$root/firmware"
-for board in "microbit thumbv6m-none-eabi microbit" "mps2-an386 thumbv7em-none-eabihf mps2-an386,hw-sqrt"; do
+for board in "microbit thumbv6m-none-eabi microbit" "mps2-an386 thumbv7em-none-eabihf mps2-an386,hw-sqrt" "sifive-e riscv32imac-unknown-none-elf sifive-e"; do
   set -- $board
   LENSRAY_SAMPLES=4 cargo build -q --release --features "$3" --target "$2"
   echo "$1 (text + data = flash; data + bss = static RAM; the stack is measured by the tests above):"

@@ -1,8 +1,8 @@
 # Sourced by scripts/firmware-tests.sh and scripts/bench.sh: installs what the
-# firmware needs where it is missing (thumb targets, qemu-system-arm, a size
-# tool) and sets $size_tool.
+# firmware needs where it is missing (thumb and RISC-V targets,
+# qemu-system-arm, qemu-system-riscv32, a size tool for both) and sets $size_tool.
 installed=$(rustup target list --installed)
-for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf; do
+for t in thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf riscv32imac-unknown-none-elf; do
   if ! grep -qx "$t" <<<"$installed"; then rustup target add "$t"; fi
 done
 as_root_apt() {
@@ -19,17 +19,20 @@ if ! command -v qemu-system-arm >/dev/null 2>&1; then
     exit 1
   }
 fi
+# The RISC-V board (sifive-e): Debian puts qemu-system-riscv32 in qemu-system-misc.
+if ! command -v qemu-system-riscv32 >/dev/null 2>&1; then
+  as_root_apt qemu-system-misc || {
+    echo "qemu-system-riscv32 is missing: install it (Debian: sudo apt-get install qemu-system-misc) and run again" >&2
+    exit 1
+  }
+fi
+# llvm-size reads Arm and RISC-V ELFs alike (arm-none-eabi-size only Arm).
 size_tool=""
-for s in arm-none-eabi-size llvm-size; do
-  if command -v "$s" >/dev/null 2>&1; then size_tool=$s; break; fi
-done
-if [ -z "$size_tool" ]; then
-  if as_root_apt binutils-arm-none-eabi; then
-    size_tool=arm-none-eabi-size
-  else
-    rustup component add llvm-tools
-    size_tool="$(rustc --print sysroot)/lib/rustlib/$(rustc -vV | sed -n 's/^host: //p')/bin/llvm-size"
-  fi
+if command -v llvm-size >/dev/null 2>&1; then
+  size_tool=llvm-size
+else
+  rustup component add llvm-tools
+  size_tool="$(rustc --print sysroot)/lib/rustlib/$(rustc -vV | sed -n 's/^host: //p')/bin/llvm-size"
 fi
 # The Pico's emulator: Node (18 or later) and rp2040js from the committed lockfile.
 if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then

@@ -1,5 +1,5 @@
 //! lensray's firmware for QEMU's `microbit` (Cortex-M0), `mps2-an385`
-//! (Cortex-M3) and `mps2-an386` (Cortex-M4F) machines.
+//! (Cortex-M3), `mps2-an386` (Cortex-M4F) and `sifive_e` (RV32IMAC) machines.
 //!
 //! It loads a scene baked at build time into flash (`lensray::baked`; with
 //! the feature `parse-on-device` it parses the scene's text instead), renders it one scanline at a time into
@@ -19,11 +19,15 @@
 mod instruction_count;
 #[cfg(feature = "profile")]
 mod profile;
+#[cfg(target_arch = "riscv32")]
+mod riscv_start;
 mod row_file;
 mod semihosting;
 mod stack_paint;
 
+#[cfg(feature = "parse-on-device")]
 use core::fmt::Write;
+#[cfg(target_arch = "arm")]
 use cortex_m_rt::{entry, exception, ExceptionFrame};
 #[cfg(feature = "parse-on-device")]
 use lensray::Scene;
@@ -56,6 +60,8 @@ const CORE: &str = if cfg!(feature = "microbit") {
     "Cortex-M0"
 } else if cfg!(feature = "mps2-an385") {
     "Cortex-M3"
+} else if cfg!(feature = "sifive-e") {
+    "RV32IMAC"
 } else {
     "Cortex-M4F"
 };
@@ -88,10 +94,22 @@ fn load(loaded: &mut Loaded, console: &mut HostFile) -> bool {
 /// Fills `loaded` from the embedded scene, in place; a message on failure.
 #[cfg(not(feature = "parse-on-device"))]
 fn load(loaded: &mut Loaded, console: &mut HostFile) -> bool {
+    use lensray::baked::BakeError as E;
     match loaded.load(SCENE) {
         Ok(()) => true,
         Err(e) => {
-            let _ = writeln!(console, "{SCENE_NAME} (baked): {e}");
+            // Named without `core::fmt` (the host's `lensray bake` gives the details).
+            let what = match e {
+                E::Truncated { .. } => "truncated",
+                E::TrailingBytes { .. } => "bytes past its length",
+                E::ForeignMagic => "not a baked lensray scene",
+                E::Version { .. } => "another format version",
+                E::NumberType { .. } => "baked for the other number type",
+                E::Checksum => "checksum mismatch: corrupted",
+                E::OutOfRange(field) => field,
+                _ => "bad payload",
+            };
+            console.text(SCENE_NAME).text(" (baked): ").text(what).text("\n");
             false
         }
     }
@@ -113,20 +131,45 @@ fn renderer(loaded: &Loaded) -> Renderer<'_, Number> {
     loaded.renderer()
 }
 
-#[entry]
-fn main() -> ! {
-    let paint = stack_paint::paint();
-    let Ok(mut console) = HostFile::console() else { exit(1) };
+/// The instruction counter: SysTick on Arm.
+#[cfg(target_arch = "arm")]
+fn counter() -> instruction_count::Counter {
     let Some(peripherals) = cortex_m::Peripherals::take() else {
         exit(1)
     };
+    instruction_count::Counter::start(peripherals.SYST)
+}
+
+/// The instruction counter: `mcycle` on RISC-V.
+#[cfg(target_arch = "riscv32")]
+fn counter() -> instruction_count::Counter {
+    instruction_count::Counter::start()
+}
+
+/// Executes an undefined instruction, to test the fault handler.
+fn fault() {
+    // SAFETY: faults on purpose; the handler exits.
+    #[cfg(target_arch = "arm")]
+    unsafe {
+        core::arch::asm!("udf #0")
+    };
+    // SAFETY: as above.
+    #[cfg(target_arch = "riscv32")]
+    unsafe {
+        core::arch::asm!("unimp")
+    };
+}
+
+#[cfg_attr(target_arch = "arm", entry)]
+fn main() -> ! {
+    let paint = stack_paint::paint();
+    let Ok(mut console) = HostFile::console() else { exit(1) };
     match FAULT {
         "panic" => panic!("failing on purpose (LENSRAY_FAULT=panic)"),
-        // SAFETY: an undefined instruction, to test the HardFault handler.
-        "hardfault" => unsafe { core::arch::asm!("udf #0") },
+        "hardfault" => fault(),
         _ => {}
     }
-    let counter = instruction_count::Counter::start(peripherals.SYST);
+    let counter = counter();
 
     #[cfg(feature = "profile")]
     {
@@ -156,8 +199,8 @@ fn main() -> ! {
 
     let mut rows = match RowFile::<ROW_BYTES>::create(ROWS_FILE, HEIGHT) {
         Ok(r) => r,
-        Err(e) => {
-            let _ = writeln!(console, "cannot create {ROWS_FILE} on the host: {e:?}");
+        Err(_) => {
+            console.text("cannot create ").text(ROWS_FILE).text(" on the host\n");
             exit(1)
         }
     };
@@ -165,8 +208,8 @@ fn main() -> ! {
     let rendered = render_with(&renderer, &mut rows);
     let t3 = counter.ticks();
     let sent = rows.rows_sent();
-    if let Err(e) = rendered.and_then(|()| rows.close()) {
-        let _ = writeln!(console, "sending row {sent} failed: {e:?}");
+    if rendered.and_then(|()| rows.close()).is_err() {
+        console.text("sending row ").num(sent as u64).text(" failed\n");
         exit(1)
     }
 
@@ -175,29 +218,86 @@ fn main() -> ! {
     let pixels = WIDTH as u64 * HEIGHT as u64;
     let per_pixel = (frame + pixels / 2) / pixels;
     let rays = renderer.rays_per_pixel();
-    let report = writeln!(
-        console,
-        "board {BOARD} ({CORE}), {}{}, scene {SCENE_NAME} ({SCENE_FORM}), {WIDTH}x{HEIGHT}, {rays} rays per pixel\n\
-         set-up: {setup} instructions\n\
-         frame: {frame} instructions, {per_pixel} instructions per pixel\n\
-         memory: flash {} bytes, static RAM {} bytes, peak stack {} bytes{}, RAM {} bytes\n\
-         report board={BOARD} number={} f32_sqrt={SQRT} width={WIDTH} height={HEIGHT} rays={rays} scene_form={SCENE_FORM} setup={setup} frame={frame} \
-         per_pixel={per_pixel} flash={} static_ram={} peak_stack={} stack_overflow={} ram={} \
-         calibration={calibration}",
-        Number::NAME,
-        if Number::NAME == "f32" { SQRT_NOTE } else { "" },
-        stack_paint::flash(),
-        stack_paint::static_ram(),
-        paint.peak_stack(),
-        if paint.overflowed() { " (or more: the paint is gone)" } else { "" },
-        stack_paint::ram(),
-        Number::NAME,
-        stack_paint::flash(),
-        stack_paint::static_ram(),
-        paint.peak_stack(),
-        paint.overflowed() as u8,
-        stack_paint::ram(),
+    let (flash, static_ram, peak, ram) = (
+        stack_paint::flash() as u64,
+        stack_paint::static_ram() as u64,
+        paint.peak_stack() as u64,
+        stack_paint::ram() as u64,
     );
+    let f32_note = if Number::NAME == "f32" { SQRT_NOTE } else { "" };
+    let overflow_note = if paint.overflowed() {
+        " (or more: the paint is gone)"
+    } else {
+        ""
+    };
+    // Written piece by piece, without `core::fmt` (see HostFile::text).
+    let c = &mut console;
+    c.text("board ")
+        .text(BOARD)
+        .text(" (")
+        .text(CORE)
+        .text("), ")
+        .text(Number::NAME)
+        .text(f32_note);
+    c.text(", scene ")
+        .text(SCENE_NAME)
+        .text(" (")
+        .text(SCENE_FORM)
+        .text("), ");
+    c.num(WIDTH as u64)
+        .text("x")
+        .num(HEIGHT as u64)
+        .text(", ")
+        .num(rays as u64)
+        .text(" rays per pixel\n");
+    c.text("set-up: ").num(setup).text(" instructions\n");
+    c.text("frame: ")
+        .num(frame)
+        .text(" instructions, ")
+        .num(per_pixel)
+        .text(" instructions per pixel\n");
+    c.text("memory: flash ")
+        .num(flash)
+        .text(" bytes, static RAM ")
+        .num(static_ram);
+    c.text(" bytes, peak stack ")
+        .num(peak)
+        .text(" bytes")
+        .text(overflow_note)
+        .text(", RAM ")
+        .num(ram)
+        .text(" bytes\n");
+    c.text("report board=")
+        .text(BOARD)
+        .text(" number=")
+        .text(Number::NAME)
+        .text(" f32_sqrt=")
+        .text(SQRT);
+    c.text(" width=")
+        .num(WIDTH as u64)
+        .text(" height=")
+        .num(HEIGHT as u64)
+        .text(" rays=")
+        .num(rays as u64);
+    c.text(" scene_form=")
+        .text(SCENE_FORM)
+        .text(" setup=")
+        .num(setup)
+        .text(" frame=")
+        .num(frame);
+    c.text(" per_pixel=")
+        .num(per_pixel)
+        .text(" flash=")
+        .num(flash)
+        .text(" static_ram=")
+        .num(static_ram);
+    c.text(" peak_stack=")
+        .num(peak)
+        .text(" stack_overflow=")
+        .num(paint.overflowed() as u64)
+        .text(" ram=")
+        .num(ram);
+    let report = c.text(" calibration=").num(calibration).write_all(b"\n");
     exit(if report.is_ok() { 0 } else { 1 })
 }
 
@@ -211,26 +311,41 @@ fn new_loaded() -> Loaded {
     Loaded::empty()
 }
 
+#[cfg(target_arch = "arm")]
 #[exception]
 unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
     if let Ok(mut console) = HostFile::console() {
-        let _ = writeln!(console, "HardFault at pc {:#010x}", frame.pc());
+        console.text("HardFault at pc ").hex(frame.pc()).text("\n");
     }
     exit(3)
 }
 
+#[cfg(target_arch = "arm")]
 #[exception]
 unsafe fn DefaultHandler(irq: i16) {
     if let Ok(mut console) = HostFile::console() {
-        let _ = writeln!(console, "unexpected exception or interrupt {irq}");
+        console
+            .text("unexpected exception or interrupt ")
+            .num(irq as u64)
+            .text("\n");
     }
     exit(4)
 }
 
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo) -> ! {
+    // The location and a literal message, without `core::fmt` (a formatted
+    // message shows its template only).
     if let Ok(mut console) = HostFile::console() {
-        let _ = writeln!(console, "{info}");
+        console.text("panicked");
+        if let Some(l) = info.location() {
+            console.text(" at ").text(l.file()).text(":").num(l.line() as u64);
+        }
+        let m = info.message();
+        console
+            .text(": ")
+            .text(m.as_str().unwrap_or("(formatted message)"))
+            .text("\n");
     }
     exit(101)
 }

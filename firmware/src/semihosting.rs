@@ -1,5 +1,6 @@
-//! Arm semihosting calls (`bkpt 0xAB`): files on the host, a console, and an
-//! exit status. QEMU serves them with `-semihosting-config enable=on,target=native`.
+//! Semihosting calls (Arm: `bkpt 0xAB`; RISC-V: `ebreak` between two marker
+//! instructions): files on the host, a console, and an exit status. QEMU
+//! serves them with `-semihosting-config enable=on,target=native`.
 
 use core::fmt;
 
@@ -21,12 +22,38 @@ const MODE_WRITE: u32 = 4;
 ///
 /// `arg` must point to the argument block `op` expects (and what it points to
 /// must stay valid for the call).
+#[cfg(target_arch = "arm")]
 #[inline(always)]
 unsafe fn call(op: u32, arg: usize) -> i32 {
     let mut r0 = op;
     // The host reads and writes our memory during the call: no `nomem`.
     core::arch::asm!("bkpt #0xab", inout("r0") r0, in("r1") arg, options(nostack, preserves_flags));
     r0 as i32
+}
+
+/// One semihosting call (see the Arm version above).
+///
+/// # Safety
+///
+/// As for Arm: `arg` must point to the argument block `op` expects.
+#[cfg(target_arch = "riscv32")]
+#[inline(always)]
+unsafe fn call(op: u32, arg: usize) -> i32 {
+    let mut a0 = op;
+    // The marked `ebreak`: three uncompressed instructions on one page.
+    core::arch::asm!(
+        ".balign 16",
+        ".option push",
+        ".option norvc",
+        "slli x0, x0, 0x1f",
+        "ebreak",
+        "srai x0, x0, 0x7",
+        ".option pop",
+        inout("a0") a0,
+        in("a1") arg,
+        options(nostack, preserves_flags)
+    );
+    a0 as i32
 }
 
 /// Ends the emulation with `status` as QEMU's own exit status.
@@ -94,6 +121,44 @@ impl HostFile {
             0 => Ok(()),
             _ => Err(IoError),
         }
+    }
+}
+
+/// Text and numbers without `core::fmt`: its formatting machinery (some
+/// 5 KiB of flash) stays out of the baked firmware.
+impl HostFile {
+    /// Writes `s` (errors are the caller's to ignore: there is no one to tell).
+    pub fn text(&mut self, s: &str) -> &mut HostFile {
+        let _ = self.write_all(s.as_bytes());
+        self
+    }
+
+    /// Writes `n` in decimal.
+    pub fn num(&mut self, n: u64) -> &mut HostFile {
+        let mut buf = [0u8; 20];
+        let mut i = buf.len();
+        let mut n = n;
+        loop {
+            i -= 1;
+            buf[i] = b'0' + (n % 10) as u8;
+            n /= 10;
+            if n == 0 {
+                break;
+            }
+        }
+        let _ = self.write_all(&buf[i..]);
+        self
+    }
+
+    /// Writes `n` as `0x` and eight hex digits.
+    pub fn hex(&mut self, n: u32) -> &mut HostFile {
+        let mut buf = *b"0x00000000";
+        for (k, b) in buf[2..].iter_mut().enumerate() {
+            let d = (n >> (28 - 4 * k)) & 0xF;
+            *b = if d < 10 { b'0' + d as u8 } else { b'a' + d as u8 - 10 };
+        }
+        let _ = self.write_all(&buf);
+        self
     }
 }
 

@@ -40,7 +40,7 @@ pub struct Paint {
 /// use the stack below this function's frame while it paints.
 #[inline(never)]
 pub fn paint() -> Paint {
-    let sp = cortex_m::register::msp::read() as usize;
+    let sp = stack_pointer();
     let heap = sym(addr_of!(__sheap));
     let high = (sp - MARGIN) & !3;
     let low = heap.max(high.saturating_sub(MAX_PAINT));
@@ -51,6 +51,20 @@ pub fn paint() -> Paint {
         a += 4;
     }
     Paint { low, high }
+}
+
+/// The current stack pointer.
+#[inline(always)]
+fn stack_pointer() -> usize {
+    #[cfg(target_arch = "arm")]
+    return cortex_m::register::msp::read() as usize;
+    #[cfg(target_arch = "riscv32")]
+    {
+        let sp: usize;
+        // SAFETY: reads a register.
+        unsafe { core::arch::asm!("mv {0}, sp", out(reg) sp, options(nomem, nostack)) };
+        sp
+    }
 }
 
 impl Paint {

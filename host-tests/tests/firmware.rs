@@ -369,10 +369,47 @@ fn mps2_an385_cortex_m3_renders_bit_for_bit_in_q16_and_f32() {
     record("mps2-an385", &runs.iter().zip(&outcomes).collect::<Vec<_>>());
 }
 
+#[test]
+#[ignore = "needs qemu-system-riscv32 and riscv32imac-unknown-none-elf; run by scripts/firmware-tests.sh"]
+fn sifive_e_rv32_renders_bit_for_bit_in_q16_and_f32() {
+    let run = |scene, width, height, samples, float| Run {
+        board: "sifive-e",
+        scene,
+        width,
+        height,
+        samples,
+        float,
+        soft_sqrt: false,
+    };
+    let mut runs = vec![
+        run(PROGRAM1, 160, 120, Some(4), false),
+        run(PINHOLE, 160, 120, None, false),
+        run(PROGRAM1, 160, 120, Some(4), true),
+        run(PINHOLE, 160, 120, None, true),
+    ];
+    // Scenes never seen (another seed than the Cortex-M3's), in both number types.
+    for (k, s) in unseen_scenes(32, 4).into_iter().enumerate() {
+        runs.push(run(s, 48, 36, Some(2), k % 2 == 1));
+    }
+    let outcomes: Vec<Outcome> = runs.iter().map(emulate_and_compare).collect();
+    for o in &outcomes {
+        // The FE310's own 16 KiB of data RAM, statics and stack together.
+        assert_eq!(o.get("ram"), 16 * 1024);
+        assert_eq!(o.report.get("scene_form").map(String::as_str), Some("baked"));
+    }
+    assert_eq!(outcomes[0].get("rays"), 4);
+    assert_eq!(outcomes[1].get("rays"), 1);
+    record("sifive-e", &runs.iter().zip(&outcomes).collect::<Vec<_>>());
+}
+
 /// `lensray emulate` with a deliberate failure built in (`LENSRAY_FAULT`).
 fn emulate_fault(board: &str, fault: &str) -> Output {
     let run = Run {
-        board: if board == "microbit" { "microbit" } else { "mps2-an386" },
+        board: match board {
+            "microbit" => "microbit",
+            "sifive-e" => "sifive-e",
+            _ => "mps2-an386",
+        },
         scene: PINHOLE,
         width: 8,
         height: 6,
@@ -403,6 +440,14 @@ fn a_panic_or_a_hardfault_exits_non_zero_instead_of_hanging() {
         ),
         ("microbit", "hardfault", "exit status 3", "HardFault at pc"),
         ("mps2-an386", "hardfault", "exit status 3", "HardFault at pc"),
+        // RISC-V: an illegal instruction traps to the start-up's handler.
+        (
+            "sifive-e",
+            "hardfault",
+            "exit status 3",
+            "HardFault (trap, mcause 2) at pc",
+        ),
+        ("sifive-e", "panic", "exit status 101", "failing on purpose"),
     ] {
         let o = emulate_fault(board, fault);
         let err = String::from_utf8_lossy(&o.stderr);

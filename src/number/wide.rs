@@ -474,12 +474,12 @@ impl RecipMul {
 /// Division by a u32 with the hardware's or the runtime's `/` (targets with
 /// a divide instruction or fast 64-bit products); the API of [`RecipMul`].
 #[derive(Copy, Clone, Debug)]
-#[cfg_attr(lensray_v6m, allow(dead_code))]
+#[cfg_attr(any(lensray_v6m, lensray_hwdiv), allow(dead_code))]
 pub(crate) struct RecipDiv {
     d: u32,
 }
 
-#[cfg_attr(lensray_v6m, allow(dead_code))]
+#[cfg_attr(any(lensray_v6m, lensray_hwdiv), allow(dead_code))]
 impl RecipDiv {
     /// The divisor `d`, for `d > 0`.
     #[inline(always)]
@@ -501,13 +501,62 @@ impl RecipDiv {
     }
 }
 
+/// Division by a u32 on 32-bit cores with a 32 / 32 divide instruction but
+/// no 64-bit one (Cortex-M3/M4 `UDIV`, RV32IM `divu`): the runtime's
+/// `u64 / u64` routine costs some 100 instructions there, while a dividend
+/// of one word, or a divisor of 16 bits (three short divisions), takes one
+/// to three hardware divides; other cases go to the runtime.
+#[derive(Copy, Clone, Debug)]
+#[cfg_attr(not(lensray_hwdiv), allow(dead_code))]
+pub(crate) struct RecipHw {
+    d: u32,
+}
+
+#[cfg_attr(not(lensray_hwdiv), allow(dead_code))]
+impl RecipHw {
+    /// The divisor `d`, for `d > 0`.
+    #[inline(always)]
+    pub(crate) fn new(d: u32) -> RecipHw {
+        RecipHw { d }
+    }
+
+    /// The divisor.
+    #[inline(always)]
+    pub(crate) fn divisor(&self) -> u32 {
+        self.d
+    }
+
+    /// `(n / d, n % d)` exactly.
+    #[inline(always)]
+    pub(crate) fn div_rem(&self, n: u64) -> (u64, u32) {
+        let d = self.d;
+        let (hi, lo) = ((n >> 32) as u32, n as u32);
+        if hi == 0 {
+            return ((lo / d) as u64, lo % d);
+        }
+        if d >> 16 == 0 {
+            // Long division in 16-bit digits: each partial dividend r:digit is below d << 16.
+            let (q2, r) = (hi / d, hi % d);
+            let n1 = (r << 16) | (lo >> 16);
+            let (q1, r) = (n1 / d, n1 % d);
+            let n0 = (r << 16) | (lo & 0xFFFF);
+            let (q0, r) = (n0 / d, n0 % d);
+            return (((q2 as u64) << 32) | ((q1 as u64) << 16) | q0 as u64, r);
+        }
+        (n / d as u64, (n % d as u64) as u32)
+    }
+}
+
 /// A divisor prepared for exact division: [`RecipMul`] on a Cortex-M0,
-/// where a `u64 / u64` costs some 350 instructions; plain `/` elsewhere.
+/// where a `u64 / u64` costs some 350 instructions; [`RecipHw`] on 32-bit
+/// cores with a word divide; plain `/` elsewhere.
 #[cfg(lensray_v6m)]
 pub(crate) type Recip = RecipMul;
-/// A divisor prepared for exact division: [`RecipMul`] on a Cortex-M0,
-/// where a `u64 / u64` costs some 350 instructions; plain `/` elsewhere.
-#[cfg(not(lensray_v6m))]
+/// See the Cortex-M0's [`Recip`].
+#[cfg(all(lensray_hwdiv, not(lensray_v6m)))]
+pub(crate) type Recip = RecipHw;
+/// See the Cortex-M0's [`Recip`].
+#[cfg(not(any(lensray_v6m, lensray_hwdiv)))]
 pub(crate) type Recip = RecipDiv;
 
 /// `(n / d, n % d)` exactly, for `d > 0`.
@@ -863,12 +912,14 @@ mod tests {
         let mut r = rng(19);
         for _ in 0..2000 {
             let d = ((r() >> 32) as u32 >> (r() % 32)).max(1);
-            let (m, p) = (RecipMul::new(d), Recip::new(d));
+            let (m, p, h) = (RecipMul::new(d), Recip::new(d), RecipHw::new(d));
             for _ in 0..100 {
                 let n = r() >> (r() % 64);
                 let want = (n / d as u64, (n % d as u64) as u32);
                 assert_eq!(m.div_rem(n), want, "{n} / {d}");
                 assert_eq!(p.div_rem(n), want, "{n} / {d}");
+                // The word-divide kernel of the Cortex-M3 and RV32, checked here on every host.
+                assert_eq!(h.div_rem(n), want, "{n} / {d}");
             }
         }
     }

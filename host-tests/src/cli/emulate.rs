@@ -34,7 +34,7 @@ struct Board {
     qemu: &'static [&'static str],
 }
 
-const BOARDS: [Board; 3] = [
+const BOARDS: [Board; 4] = [
     Board {
         name: "microbit",
         target: "thumbv6m-none-eabi",
@@ -56,10 +56,26 @@ const BOARDS: [Board; 3] = [
         qemu_program: "qemu-system-arm",
         qemu: &["-machine", "mps2-an386", "-cpu", "cortex-m4"],
     },
+    // 32-bit RISC-V without an FPU (SiFive FE310, rv32imac): the ESP32-C3 / CH32V class.
+    Board {
+        name: "sifive-e",
+        target: "riscv32imac-unknown-none-elf",
+        features: "sifive-e",
+        qemu_program: "qemu-system-riscv32",
+        qemu: &["-machine", "sifive_e"],
+    },
 ];
 
 /// The boards' names: the QEMU boards, then the Pico (rp2040js).
-const BOARD_NAMES: [&str; 4] = [BOARDS[0].name, BOARDS[1].name, BOARDS[2].name, PICO];
+const BOARD_NAMES: [&str; BOARDS.len() + 1] = {
+    let mut names = [PICO; BOARDS.len() + 1];
+    let mut i = 0;
+    while i < BOARDS.len() {
+        names[i] = BOARDS[i].name;
+        i += 1;
+    }
+    names
+};
 
 /// The board under rp2040js instead of QEMU.
 const PICO: &str = "pico";
@@ -77,8 +93,8 @@ const DEFAULT_TIMEOUT: u32 = 3600;
 ///
 /// Builds the firmware with the scene embedded, runs it under QEMU on the board (instruction
 /// counting on), writes the image the board rendered and prints its instructions per pixel and
-/// memory use. Boards: microbit (Cortex-M0), mps2-an385 (Cortex-M3), mps2-an386 (Cortex-M4F);
-/// pico builds firmware/pico and runs it under rp2040js (Node) with a model of its ST7789 panel,
+/// memory use. Boards: microbit (Cortex-M0), mps2-an385 (Cortex-M3), mps2-an386 (Cortex-M4F),
+/// sifive-e (RV32IMAC, no FPU); pico builds firmware/pico and runs it under rp2040js (Node) with a model of its ST7789 panel,
 /// writes what the panel shows (equal to `render --panel rgb565`) and prints cycles a pixel and
 /// the frame's seconds at 125 MHz.
 #[derive(Args, Debug)]
