@@ -33,18 +33,27 @@ pub struct Renderer<'a, S: Scalar> {
     pub(crate) bright: BrightFootprints,
 }
 
-/// Lens samples an adaptive pixel takes before it first asks whether it is
-/// done: one in each of 16 equal strata of the lens (see [`crate::sampler`]).
+/// Lens samples an adaptive pixel of 64 or more samples takes at least
+/// before it first asks whether it is done: one in each of 16 equal strata of
+/// the lens (see [`crate::sampler`]).
 pub const ADAPTIVE_PILOT: u32 = 16;
 
+/// The smallest pilot: four samples, one a quarter, the fewest the stop rule
+/// can estimate a spread from.
+pub const ADAPTIVE_MIN_PILOT: u32 = 4;
+
+/// The fewest samples a pixel must have for adaptive sampling to start: below
+/// it even the smallest pilot is more than 40 % of them.
+pub const ADAPTIVE_MIN_POINT: u32 = 4 * ADAPTIVE_MIN_PILOT;
+
 /// The pilot of a pixel with `samples` lens samples: the largest power of two
-/// at most a quarter of them, and at least [`ADAPTIVE_PILOT`]. A pixel that
-/// stops after its pilot has seen the lens at a quarter of the full render's
-/// resolution: a bright light reaching it through a smaller part of the lens
-/// than that is what the pilot may miss.
+/// at most a quarter of them, and at least [`ADAPTIVE_MIN_PILOT`]. A pixel
+/// that stops after its pilot has seen the lens at a quarter of the full
+/// render's resolution: a bright light reaching it through a smaller part of
+/// the lens than that is what the pilot may miss.
 pub fn adaptive_pilot(samples: u32) -> u32 {
     let quarter = (samples / 4).max(1);
-    (1u32 << (31 - quarter.leading_zeros())).max(ADAPTIVE_PILOT)
+    (1u32 << (31 - quarter.leading_zeros())).max(ADAPTIVE_MIN_PILOT)
 }
 
 /// The variance of an adaptive pixel's mean, in 8-bit levels squared, below
@@ -237,7 +246,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut lens = PixelSamples::new(self.sampler, col, row);
         let mut acc = [S::acc_zero(); 3];
         let mut stats = LevelStats::default();
-        let adaptive = self.adaptive && self.samples > ADAPTIVE_PILOT;
+        let adaptive = self.adaptive && self.samples >= ADAPTIVE_MIN_POINT;
         // Where a lamp may shine through part of the lens, a pilot at half the
         // full render's resolution of the lens.
         let mut check = if self.bright.at_risk(col, row) {
