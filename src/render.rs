@@ -40,11 +40,11 @@ pub const ADAPTIVE_PILOT: u32 = 16;
 
 /// The smallest pilot: four samples, one a quarter, the fewest the stop rule
 /// can estimate a spread from.
-pub const ADAPTIVE_MIN_PILOT: u32 = 4;
+pub const ADAPTIVE_MIN_PILOT: u32 = 8;
 
 /// The fewest samples a pixel must have for adaptive sampling to start: below
 /// it even the smallest pilot is more than 40 % of them.
-pub const ADAPTIVE_MIN_POINT: u32 = 4 * ADAPTIVE_MIN_PILOT;
+pub const ADAPTIVE_MIN_POINT: u32 = 5 * ADAPTIVE_MIN_PILOT / 2;
 
 /// The pilot of a pixel with `samples` lens samples: the largest power of two
 /// at most a quarter of them, and at least [`ADAPTIVE_MIN_PILOT`]. A pixel
