@@ -21,7 +21,9 @@ use crate::scalar::Scalar;
 use crate::scene::Scene;
 
 /// Objects whose brightest possible colour (ambient plus every light at full
-/// diffuse and specular strength) exceeds this many times white are bright:
+/// diffuse and specular strength; for a plane, only the lights on the lens's
+/// side of it, as shading skips a light behind the surface) exceeds this
+/// many times white are bright:
 /// lamps. Lit surfaces of ordinary materials stay below it (Program 1's gold
 /// sphere bounds at 3.7 under its three lights, its floor at 2.6), and a
 /// pilot that misses one through less than 1/16 of the lens errs by less than

@@ -3,11 +3,11 @@
 //! reference, beside `point` independent samples.
 //!
 //! ```sh
-//! cargo run --release -p lensray-host --example adaptive_campaign -- [FIRST_SEED] [SEEDS] [WIDTH] [REFERENCE]
+//! bash scripts/adaptive-campaign.sh [FIRST_SEED] [SEEDS] [WIDTH] [REFERENCE]
 //! ```
 //! Defaults: seeds 1..=40, 160x120, 1024 reference samples. A seed whose
 //! `point` is below [`lensray::render::ADAPTIVE_MIN_POINT`] is listed but not
-//! judged (no render with a ray a pixel can cast 40 % of so few).
+//! judged (below it even the smallest pilot is more than 40 % of `point`).
 
 use lensray::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
