@@ -2,9 +2,11 @@
 //! references: the default render (stratified, adaptive) of lens scenes
 //! reaches at least the PSNR that `point` independent samples reach, with at
 //! most 40 % of their rays (the issue-14 floors, scaled down to small frames;
-//! the full-size figures are `cargo bench -p lensray-host --bench sampling`).
+//! the full-size figures are `cargo bench -p lensray-host --bench sampling`,
+//! the generated-scene campaign `cargo run --release -p lensray-host
+//! --example adaptive_campaign`).
 
-use lensray::render::{adaptive_pilot, ADAPTIVE_PILOT};
+use lensray::render::{adaptive_pilot, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT};
 use lensray::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
 use lensray_host::convergence::{measure, reference, Setting};
@@ -74,6 +76,115 @@ fn bright_bokeh_default_render_beats_independent_with_40_percent_of_the_rays() {
     // Lamps 15 times brighter than white, far out of focus, seen through part
     // of a hexagonal lens: what a pilot that stops early gets wrong.
     floors_hold("camera-features.scene", 96, 72);
+}
+
+/// Seeds of generated lens scenes: `LENSRAY_SEEDS` (comma-separated), else
+/// `count` seeds drawn from the clock, so that every run sees new scenes.
+fn run_time_seeds(count: u64) -> Vec<u64> {
+    if let Ok(v) = std::env::var("LENSRAY_SEEDS") {
+        return v.split(',').filter_map(|s| s.trim().parse().ok()).collect();
+    }
+    let t = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap()
+        .as_nanos() as u64;
+    (0..count).map(|i| (t ^ (i << 40)) % 1_000_000).collect()
+}
+
+/// The floors on generated lens scenes of seeds chosen at run time, at
+/// 80x60 (the campaign example measures many more, larger). Not met yet on
+/// every scene (see BENCHMARKS.md, "The scene generator's lens scenes"):
+/// `cargo test --release -p lensray-host --test adaptive -- --ignored`.
+#[test]
+#[ignore = "the floors are not met on every generated lens scene yet"]
+fn generated_lens_scenes_meet_the_floors() {
+    let mut failed = Vec::new();
+    for seed in run_time_seeds(6) {
+        let text = lensray_testkit::scenegen::generate_lens(seed);
+        let point = Scene::<f32>::parse(&text).unwrap().camera.samples;
+        if point < ADAPTIVE_MIN_POINT {
+            continue; // 40 % of so few is less than the smallest pilot.
+        }
+        let truth = reference(&text, 80, 60, 512, Sampler::Stratified).unwrap();
+        let ind = Setting {
+            samples: point,
+            sampler: Sampler::Independent,
+            adaptive: false,
+        };
+        let ind = measure(&text, &truth, ind).unwrap();
+        let def = measure(&text, &truth, Setting::default_render(point)).unwrap();
+        println!(
+            "seed {seed} (point {point}): independent {:.2} dB, default {:.2} dB at {:.1} %",
+            ind.psnr,
+            def.psnr,
+            100.0 * def.rays / point as f64
+        );
+        if def.psnr < ind.psnr || def.rays > 0.4 * point as f64 {
+            failed.push(seed);
+        }
+    }
+    assert!(failed.is_empty(), "seeds {failed:?}");
+}
+
+#[test]
+fn generated_lens_scenes_stop_at_powers_of_two_on_the_full_renders_samples() {
+    // On scenes never seen: every pixel casts its pilot, a power of two above
+    // it, or all `point`; and its colour is the full render's at that many samples.
+    for seed in run_time_seeds(3) {
+        let text = lensray_testkit::scenegen::generate_lens(seed);
+        let scene = Scene::<I16F16>::parse(&text).unwrap();
+        let point = scene.camera.samples;
+        let r = Renderer::new(&scene, 24, 18);
+        let pilot = adaptive_pilot(point);
+        for (x, y) in (0..18).flat_map(|y| (0..24).map(move |x| (x, y))) {
+            let (c, n) = r.pixel_rays(x, y);
+            if point < ADAPTIVE_MIN_POINT || scene.camera.radius == 0.0 {
+                assert!(n == point || n == 1, "seed {seed}: {n} of {point}");
+                continue;
+            }
+            assert!(
+                n == point || (n >= pilot && n.is_power_of_two()),
+                "seed {seed}: {n} rays of {point} (pilot {pilot})"
+            );
+            let (d, _) = r.clone().with_adaptive(false).with_samples(n).pixel_rays(x, y);
+            assert_eq!(c, d, "seed {seed} pixel ({x}, {y})");
+        }
+    }
+}
+
+#[test]
+fn the_pilot_grows_with_point() {
+    // A quarter of point, rounded down to a power of two, at least 8.
+    assert_eq!(adaptive_pilot(20), ADAPTIVE_MIN_PILOT);
+    assert_eq!(adaptive_pilot(33), 8);
+    assert_eq!(adaptive_pilot(63), 8);
+    assert_eq!(adaptive_pilot(64), 16);
+    // A lens looking at nothing: every sample agrees, each pixel stops at its pilot.
+    for (point, rays) in [
+        (ADAPTIVE_MIN_POINT - 1, ADAPTIVE_MIN_POINT - 1),
+        (33, 8),
+        (64, 16),
+        (320, 64),
+    ] {
+        let empty = Scene::<I16F16>::parse(&format!("radius 0.3\npoint {point}\n")).unwrap();
+        assert_eq!(Renderer::new(&empty, 8, 6).pixel_rays(3, 2).1, rays, "point {point}");
+    }
+}
+
+#[test]
+fn a_bright_plane_is_a_lamp_only_lit_from_the_lens_side() {
+    // A floor 2 below the lens, white Kd: a light of 10 under it never lights
+    // what the lens sees; the same light above it does (a footprint everywhere).
+    for (y, lamp) in [(-5.0, false), (5.0, true)] {
+        let text = format!(
+            "radius 0.5\npoint 64\nlight_position 0 {y} -10\nlight_intensity 10 10 10\n\
+             object plane\nKd 1 1 1\nrotate x -90\ntranslate 0 -2 0\n"
+        );
+        let scene = Scene::<I16F16>::parse(&text).unwrap();
+        let r = Renderer::new(&scene, 16, 12);
+        assert_eq!(!r.bright_footprints().is_empty(), lamp, "light at y {y}");
+        assert_eq!(r.bright_footprints().at_risk(3, 3), lamp, "light at y {y}");
+    }
 }
 
 #[test]
@@ -197,7 +308,7 @@ fn the_render_flag_overrides_the_scene() {
     assert!(lensray_host::load_image(&dir.join("ind.bmp")).unwrap().pixels != off.pixels);
     let on_out = String::from_utf8_lossy(&run("on", "on.bmp").stdout).into_owned();
     let rays: f64 = on_out.trim().strip_prefix("rays per pixel: ").unwrap().parse().unwrap();
-    assert!((16.0..24.0).contains(&rays), "{on_out}");
+    assert!((adaptive_pilot(24) as f64..24.0).contains(&rays), "{on_out}");
 }
 
 #[test]

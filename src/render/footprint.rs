@@ -21,7 +21,9 @@ use crate::number::Scalar;
 use crate::scene::Scene;
 
 /// Objects whose brightest possible colour (ambient plus every light at full
-/// diffuse and specular strength) exceeds this many times white are bright:
+/// diffuse and specular strength; for a plane, only the lights on the lens's
+/// side of it, as shading skips a light behind the surface) exceeds this
+/// many times white are bright:
 /// lamps. Lit surfaces of ordinary materials stay below it (Program 1's gold
 /// sphere bounds at 3.7 under its three lights, its floor at 2.6), and a
 /// pilot that misses one through less than 1/16 of the lens errs by less than
@@ -78,9 +80,21 @@ impl BrightFootprints {
         for obj in &scene.objects {
             let m = &obj.material;
             let (ka, kd, ks) = (m.ka.to_f64(), m.kd.to_f64(), m.ks.to_f64());
+            // A plane is lit only by the lights on the lens's side of it (shading
+            // skips a light behind the surface, and the surface faces the ray).
+            let side = if obj.bound().is_none() {
+                lens_side(scene, obj, [u, v], a)
+            } else {
+                None
+            };
             let brightest = (0..3)
                 .map(|k| {
-                    let lights: f64 = scene.lights.iter().map(|l| l.intensity.to_f64()[k]).sum();
+                    let lights: f64 = scene
+                        .lights
+                        .iter()
+                        .filter(|l| side.is_none_or(|s| obj.plane_height(l.position).to_f64() * s > 0.0))
+                        .map(|l| l.intensity.to_f64()[k])
+                        .sum();
                     ka[k] * ambient[k] + (kd[k] + ks[k]) * lights
                 })
                 .fold(0.0, f64::max);
@@ -134,6 +148,37 @@ impl BrightFootprints {
     pub fn is_empty(&self) -> bool {
         self.spots.is_empty() && !self.everywhere
     }
+}
+
+/// The sign of plane `obj`'s height over the whole lens (the disc of radius
+/// `a` across `uv` around the lens centre), or `None` where it straddles it.
+fn lens_side<S: Scalar>(scene: &Scene<S>, obj: &crate::scene::Object<S>, uv: [[f64; 3]; 2], a: f64) -> Option<f64> {
+    let e = scene.camera.lens_position;
+    let mut sign = None;
+    // The corners of the square around the disc: a height (affine) that keeps
+    // its sign on them keeps it on the disc.
+    for (su, sv) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
+        let p = [0, 1, 2].map(|k| e[k] + a * (su * uv[0][k] + sv * uv[1][k]));
+        let h = obj
+            .plane_height(crate::geometry::vec3::Vec3::new(
+                S::from_f64(p[0]),
+                S::from_f64(p[1]),
+                S::from_f64(p[2]),
+            ))
+            .to_f64();
+        let s = if h > 0.0 {
+            1.0
+        } else if h < 0.0 {
+            -1.0
+        } else {
+            return None;
+        };
+        if sign.is_some_and(|x| x != s) {
+            return None;
+        }
+        sign = Some(s);
+    }
+    sign
 }
 
 impl crate::bytes::Field for Spot {

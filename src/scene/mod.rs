@@ -223,6 +223,12 @@ impl<S: Scalar> Object<S> {
         })
     }
 
+    /// A plane's signed height (object-space z) at world point `p`: points on
+    /// the same side of the plane have the same sign (set-up use).
+    pub(crate) fn plane_height(&self, p: Vec3<S>) -> S {
+        self.to_object.point_coord(2, p)
+    }
+
     /// The world-space bounding sphere (centre, radius), if the shape is bounded.
     pub fn bound(&self) -> Option<(Vec3<S>, S)> {
         self.bound

@@ -340,7 +340,7 @@ impl Gen {
         let rng = &mut self.rng;
         self.tabs = rng.chance(0.15);
         self.plain = rng.chance(0.8);
-        let _ = writeln!(self.out, "# generated scene (lensray_host::scenegen)");
+        let _ = writeln!(self.out, "# generated scene (lensray_testkit::scenegen)");
         if self.rng.chance(0.1) {
             // An early camera statement a later one overrides: the last one stands.
             self.single("width", 99.0);
