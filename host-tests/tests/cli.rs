@@ -331,7 +331,7 @@ fn a_mistyped_option_or_command_gets_a_suggestion() {
         ),
         (
             &["emulate", "a.scene", "--board", "esp32"],
-            "lensray: --board esp32: must be microbit, mps2-an385, mps2-an386 or pico",
+            "lensray: --board esp32: must be microbit, mps2-an385, mps2-an386, sifive-e or pico",
         ),
     ];
     for (args, want) in cases {
