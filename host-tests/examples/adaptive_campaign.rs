@@ -49,11 +49,7 @@ fn main() {
         let ind = measure(
             &text,
             &truth,
-            Setting {
-                samples: point,
-                sampler: Sampler::Independent,
-                adaptive: false,
-            },
+            Setting::independent(point),
         )
         .unwrap();
         let def = measure(&text, &truth, Setting::default_render(point)).unwrap();

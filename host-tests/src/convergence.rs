@@ -45,6 +45,15 @@ impl Setting {
             adaptive: true,
         }
     }
+
+    /// The floor's yardstick: `samples` independent samples in every pixel.
+    pub fn independent(samples: u32) -> Self {
+        Setting {
+            samples,
+            sampler: Sampler::Independent,
+            adaptive: false,
+        }
+    }
 }
 
 /// Renders `text` (Q16.16 unless `float`) at `w`×`h` with `setting`; the

@@ -30,11 +30,7 @@ fn floors_hold(name: &str, w: u32, h: u32) {
     let independent = measure(
         &text,
         &truth,
-        Setting {
-            samples: point,
-            sampler: Sampler::Independent,
-            adaptive: false,
-        },
+        Setting::independent(point),
     )
     .unwrap();
     // The default render: the scene as written (stratified, adaptive).
@@ -106,11 +102,7 @@ fn generated_lens_scenes_meet_the_floors() {
             continue; // 40 % of so few is less than the smallest pilot.
         }
         let truth = reference(&text, 80, 60, 512, Sampler::Stratified).unwrap();
-        let ind = Setting {
-            samples: point,
-            sampler: Sampler::Independent,
-            adaptive: false,
-        };
+        let ind = Setting::independent(point);
         let ind = measure(&text, &truth, ind).unwrap();
         let def = measure(&text, &truth, Setting::default_render(point)).unwrap();
         println!(

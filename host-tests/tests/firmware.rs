@@ -341,11 +341,12 @@ fn unseen_scenes(seed: u64, count: usize) -> Vec<&'static str> {
     out
 }
 
-#[test]
-#[ignore = "needs qemu-system-arm and thumbv7m-none-eabi; run by scripts/firmware-tests.sh"]
-fn mps2_an385_cortex_m3_renders_bit_for_bit_in_q16_and_f32() {
+/// Program 1 (4 rays) and pinhole-shapes at 160x120 in Q16.16 and f32, then
+/// `count` small scenes never seen (from `seed`, 2 rays, alternating number
+/// types), all bit for bit on `board`; the outcomes in that order, recorded.
+fn bit_for_bit_on(board: &'static str, seed: u64, count: usize) -> Vec<Outcome> {
     let run = |scene, width, height, samples, float| Run {
-        board: "mps2-an385",
+        board,
         scene,
         width,
         height,
@@ -359,47 +360,31 @@ fn mps2_an385_cortex_m3_renders_bit_for_bit_in_q16_and_f32() {
         run(PROGRAM1, 160, 120, Some(4), true),
         run(PINHOLE, 160, 120, None, true),
     ];
-    // Scenes never seen, small, 2 rays a pixel, in both number types.
-    for (k, s) in unseen_scenes(15, 3).into_iter().enumerate() {
+    for (k, s) in unseen_scenes(seed, count).into_iter().enumerate() {
         runs.push(run(s, 48, 36, Some(2), k % 2 == 1));
     }
     let outcomes: Vec<Outcome> = runs.iter().map(emulate_and_compare).collect();
     assert_eq!(outcomes[0].get("rays"), 4);
     assert_eq!(outcomes[1].get("rays"), 1);
-    record("mps2-an385", &runs.iter().zip(&outcomes).collect::<Vec<_>>());
+    record(board, &runs.iter().zip(&outcomes).collect::<Vec<_>>());
+    outcomes
+}
+
+#[test]
+#[ignore = "needs qemu-system-arm and thumbv7m-none-eabi; run by scripts/firmware-tests.sh"]
+fn mps2_an385_cortex_m3_renders_bit_for_bit_in_q16_and_f32() {
+    bit_for_bit_on("mps2-an385", 15, 3);
 }
 
 #[test]
 #[ignore = "needs qemu-system-riscv32 and riscv32imac-unknown-none-elf; run by scripts/firmware-tests.sh"]
 fn sifive_e_rv32_renders_bit_for_bit_in_q16_and_f32() {
-    let run = |scene, width, height, samples, float| Run {
-        board: "sifive-e",
-        scene,
-        width,
-        height,
-        samples,
-        float,
-        soft_sqrt: false,
-    };
-    let mut runs = vec![
-        run(PROGRAM1, 160, 120, Some(4), false),
-        run(PINHOLE, 160, 120, None, false),
-        run(PROGRAM1, 160, 120, Some(4), true),
-        run(PINHOLE, 160, 120, None, true),
-    ];
-    // Scenes never seen (another seed than the Cortex-M3's), in both number types.
-    for (k, s) in unseen_scenes(32, 4).into_iter().enumerate() {
-        runs.push(run(s, 48, 36, Some(2), k % 2 == 1));
-    }
-    let outcomes: Vec<Outcome> = runs.iter().map(emulate_and_compare).collect();
-    for o in &outcomes {
+    // Scenes never seen from another seed than the Cortex-M3's.
+    for o in bit_for_bit_on("sifive-e", 32, 4) {
         // The FE310's own 16 KiB of data RAM, statics and stack together.
         assert_eq!(o.get("ram"), 16 * 1024);
         assert_eq!(o.report.get("scene_form").map(String::as_str), Some("baked"));
     }
-    assert_eq!(outcomes[0].get("rays"), 4);
-    assert_eq!(outcomes[1].get("rays"), 1);
-    record("sifive-e", &runs.iter().zip(&outcomes).collect::<Vec<_>>());
 }
 
 /// `lensray emulate` with a deliberate failure built in (`LENSRAY_FAULT`).
