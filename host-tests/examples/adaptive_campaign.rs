@@ -46,12 +46,7 @@ fn main() {
             .count() as f64
             / (w * h) as f64;
         let truth = reference(&text, w, h, ref_n, Sampler::Stratified).unwrap();
-        let ind = measure(
-            &text,
-            &truth,
-            Setting::independent(point),
-        )
-        .unwrap();
+        let ind = measure(&text, &truth, Setting::independent(point)).unwrap();
         let def = measure(&text, &truth, Setting::default_render(point)).unwrap();
         // Stratified, every pixel at 40 % of point: what adaptive must beat.
         let flat = measure(

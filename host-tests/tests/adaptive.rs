@@ -27,12 +27,7 @@ fn floors_hold(name: &str, w: u32, h: u32) {
     let text = scene_text(name);
     let point = Scene::<f32>::parse(&text).unwrap().camera.samples;
     let truth = reference(&text, w, h, 2048, Sampler::Stratified).unwrap();
-    let independent = measure(
-        &text,
-        &truth,
-        Setting::independent(point),
-    )
-    .unwrap();
+    let independent = measure(&text, &truth, Setting::independent(point)).unwrap();
     // The default render: the scene as written (stratified, adaptive).
     let scene = Scene::<I16F16>::parse(&text).unwrap();
     assert!(scene.camera.adaptive && scene.camera.sampler == Sampler::Stratified);
