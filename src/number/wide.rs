@@ -375,7 +375,7 @@ fn recip_word_estimate(d: u32) -> u32 {
 /// `floor((2^64 - 1) / d) - 2^32` for a normalised divisor `d >= 2^31`,
 /// exactly: the reciprocal of the 2-by-1 word division of Möller and
 /// Granlund (2011), from [`recip_word_estimate`] corrected by the remainder.
-#[inline]
+#[inline(always)]
 #[cfg_attr(not(lensray_v6m), allow(dead_code))]
 fn recip_word(d: u32) -> u32 {
     let mut v = recip_word_estimate(d);
@@ -451,7 +451,7 @@ impl RecipMul {
 
     /// `(n / d, n % d)` exactly, for every n (quotients of 32 bits or less
     /// take one word step, larger ones two).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn div_rem(&self, n: u64) -> (u64, u32) {
         let (dn, v, s) = (self.dn, self.v, self.s);
         let (hi, lo) = ((n >> 32) as u32, n as u32);
