@@ -262,12 +262,7 @@ impl Build<'_> {
     /// of this command in parallel share one target directory.
     fn run(&self, dir: &Path) -> Result<PathBuf, Fail> {
         let firmware = firmware_dir()?;
-        let target_dir = firmware.join("target");
-        std::fs::create_dir_all(&target_dir).map_err(|e| Fail(format!("{}: {e}", target_dir.display())))?;
-        let lock_path = target_dir.join("lensray-emulate.lock");
-        let lock = std::fs::File::create(&lock_path).map_err(|e| Fail(format!("{}: {e}", lock_path.display())))?;
-        lock.lock()
-            .map_err(|e| Fail(format!("{}: cannot lock: {e}", lock_path.display())))?;
+        let (target_dir, lock) = lock_target_dir(&firmware)?;
 
         let mut features = if self.soft_sqrt {
             self.board.features.replace(",hw-sqrt", "")
@@ -325,6 +320,18 @@ impl Build<'_> {
 }
 
 /// The firmware crate: `$LENSRAY_FIRMWARE_DIR`, else `firmware/` of this source tree.
+/// `firmware/target`, created, and a lock on it held until the lock is
+/// dropped: runs of the emulate commands in parallel build one at a time.
+pub(crate) fn lock_target_dir(firmware: &Path) -> Result<(PathBuf, std::fs::File), Fail> {
+    let target_dir = firmware.join("target");
+    std::fs::create_dir_all(&target_dir).map_err(|e| Fail(format!("{}: {e}", target_dir.display())))?;
+    let lock_path = target_dir.join("lensray-emulate.lock");
+    let lock = std::fs::File::create(&lock_path).map_err(|e| Fail(format!("{}: {e}", lock_path.display())))?;
+    lock.lock()
+        .map_err(|e| Fail(format!("{}: cannot lock: {e}", lock_path.display())))?;
+    Ok((target_dir, lock))
+}
+
 pub(crate) fn firmware_dir() -> Result<PathBuf, Fail> {
     let dir = match std::env::var_os("LENSRAY_FIRMWARE_DIR") {
         Some(d) => PathBuf::from(d),

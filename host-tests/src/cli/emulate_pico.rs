@@ -16,7 +16,7 @@ use lensray::{Renderer, Scalar, I16F16};
 use lensray_host::panel::image_from_rgb565;
 use lensray_host::{encode, load_scene, write_atomic, Format};
 
-use crate::cli::emulate::{firmware_dir, run_bounded, EmulateArgs, WorkDir, DEFAULT_WIDTH};
+use crate::cli::emulate::{firmware_dir, lock_target_dir, run_bounded, EmulateArgs, WorkDir, DEFAULT_WIDTH};
 use crate::cli::opts::image_size;
 use crate::Fail;
 
@@ -138,13 +138,8 @@ pub(crate) fn run(o: &EmulateArgs, scene_path: &Path, soft_sqrt: bool, timeout: 
 
 /// Builds the Pico firmware for this scene and size; its ELF copied into `dir`.
 fn build(firmware: &Path, dir: &Path, scene: &Path, width: u32, height: u32, rays: u32) -> Result<PathBuf, Fail> {
-    let target_dir = firmware.join("target");
-    std::fs::create_dir_all(&target_dir).map_err(|e| Fail(format!("{}: {e}", target_dir.display())))?;
     // Runs in parallel share the target directory: one build at a time.
-    let lock_path = target_dir.join("lensray-emulate.lock");
-    let lock = std::fs::File::create(&lock_path).map_err(|e| Fail(format!("{}: {e}", lock_path.display())))?;
-    lock.lock()
-        .map_err(|e| Fail(format!("{}: cannot lock: {e}", lock_path.display())))?;
+    let (target_dir, lock) = lock_target_dir(firmware)?;
     eprintln!("building the firmware for pico ({TARGET})");
     let built = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
         .current_dir(firmware)
