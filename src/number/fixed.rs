@@ -350,7 +350,8 @@ impl Kernels for I16F16 {
             shift,
         }
     }
-    #[inline]
+    // Always: one copy of the body (in `FixedRow::apply`, which the plane calls too).
+    #[inline(always)]
     fn row_apply(row: &FixedRow, v: [Self; 3], affine: bool) -> Self {
         row.apply(v, affine)
     }
