@@ -13,7 +13,7 @@
 //! * One algorithm over the [`Scalar`] trait, in two number types: Q16.16
 //!   ([`I16F16`], integer instructions only on the per-ray path) and `f32`
 //!   (the reference that measures what fixed point costs).
-//! * Lens samples from an integer LFSR ([`lfsr`]), identical for both number
+//! * Lens samples from an integer LFSR, identical for both number
 //!   types and dependent only on the pixel.
 //! * Scenes in the paper's plain-text format ([`Scene::parse`]); bad input gives
 //!   a [`ParseError`] naming the line, never a panic.

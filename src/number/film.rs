@@ -3,7 +3,7 @@
 //! A pixel's chief ray runs along `D(i, j) = a i + b j + c` in world space,
 //! with `(i, j) = (2c + 1, 2r + 1)` its doubled centre and a, b, c fixed by the
 //! camera; a lens sample `(s_x, s_y)` tilts it to `D − s_x k_u − s_y k_v` (see
-//! [`crate::camera`]). In Q16.16 the map is held as integers at one scale
+//! `crate::camera`). In Q16.16 the map is held as integers at one scale
 //! chosen at set-up, so that a ray's direction costs six small products, one
 //! square root and one reciprocal, and comes out a unit vector to 30 bits.
 

@@ -8,9 +8,9 @@ mod sealed {
     impl Sealed for f32 {}
 }
 
-/// The number type of a renderer: Q16.16 [`I16F16`] or `f32`.
+/// The number type of a renderer: Q16.16 [`I16F16`](fixed::types::I16F16) or `f32`.
 ///
-/// See the [module docs](self) for the rules all implementations follow.
+/// See the module docs of `number` (`src/number/mod.rs`) for the rules all implementations follow.
 pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::Sealed + Kernels + 'static {
     /// 0.
     const ZERO: Self;
@@ -170,7 +170,7 @@ mod kernels {
 }
 pub(crate) use kernels::Kernels;
 
-/// A number type whose renderers can be baked: [`I16F16`] and `f32`. Its
+/// A number type whose renderers can be baked: [`I16F16`](fixed::types::I16F16) and `f32`. Its
 /// matrix rows and film map have baked forms too.
 pub trait BakeScalar:
     Scalar<Row = <Self as BakeScalar>::BakedRow, FilmMap = <Self as BakeScalar>::BakedFilmMap> + crate::bytes::Field
