@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 use std::process::exit;
 
 /// Largest image side: the camera's limit.
-const MAX_SIDE: u32 = lensray::camera::MAX_IMAGE_SIDE;
+const MAX_SIDE: u32 = lensray::MAX_IMAGE_SIDE;
 
 fn fail(msg: &str) -> ! {
     eprintln!("error: {msg}");

@@ -13,7 +13,7 @@
 //! * One algorithm over the [`Scalar`] trait, in two number types: Q16.16
 //!   ([`I16F16`], integer instructions only on the per-ray path) and `f32`
 //!   (the reference that measures what fixed point costs).
-//! * Lens samples from an integer LFSR ([`lfsr`]), identical for both number
+//! * Lens samples from an integer LFSR, identical for both number
 //!   types and dependent only on the pixel.
 //! * Scenes in the paper's plain-text format ([`Scene::parse`]); bad input gives
 //!   a [`ParseError`] naming the line, never a panic.
@@ -43,29 +43,25 @@
 //! # Ok::<(), lensray::ParseError>(())
 //! ```
 //!
-//! ## Modules
+//! ## API
 //!
-//! The items at the crate root ([`Scene`], [`render()`], [`render_with`],
-//! [`Renderer`], [`ParseError`], [`Scalar`], [`I16F16`], [`Vec3`], [`Shape`],
-//! [`baked`]'s loader) are the API a firmware or the CLI calls. The modules
-//! below also open their parts to the host tests, the firmware's profiler and
-//! the tools: those paths are unstable and may change.
+//! The items at the crate root are the API a firmware, the web page and the
+//! CLI call: [`Scene`] and its parser's [`ParseError`], [`render()`],
+//! [`render_with`] and [`Renderer`] (with [`CameraSample`] for one lens ray),
+//! [`progressive`] rendering, the [`baked`] loader, the number trait
+//! [`Scalar`] with [`I16F16`], and [`Vec3`], [`Shape`] and the limits.
 //!
-//! Each uses only those before it (a host test checks that `src/` has no
-//! import cycle):
+//! Everything else is private. The host tests, the firmware's profiler and
+//! the tools reach some internals through `lensray::unstable`, hidden from the
+//! documentation: those paths may change in any release.
 //!
-//! * [`bytes`]: the checked byte form of every baked value;
-//! * [`number`]: the number trait [`Scalar`], its Q16.16 and `f32`
-//!   implementations and their exact kernels (wide integers, the film map,
-//!   the plane);
-//! * [`geometry`]: vectors, affine transforms, rays;
-//! * [`camera`]: the camera statements, the lens (aperture, LFSR, lens
-//!   sampler) and the one ray-making entry;
-//! * [`scene`]: the scene data, shapes and autofocus;
-//! * [`parse`]: the scene format;
-//! * [`mod@render`]: tracing, culling, bright footprints, progressive
-//!   rendering;
-//! * [`baked`]: a renderer set up on the host, as checked bytes for flash.
+//! Inside, each module uses only those before it, and no file of `src/`
+//! imports one that imports it back (a unit test checks both): `bytes` (the
+//! checked byte form of every baked value); `number` (the trait, its Q16.16
+//! and `f32` implementations and their exact kernels); `geometry`; `camera`
+//! (statements, lens, the one ray-making entry); `scene` (data, shapes,
+//! autofocus); `parse`; `render` (tracing, culling, bright footprints,
+//! progressive rendering); `baked`.
 
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
@@ -73,35 +69,63 @@
 // Dependencies point one way, each layer using only the ones above it:
 // bytes, number, geometry, camera, scene, parse, render, baked.
 pub mod baked;
-pub mod bytes;
-pub mod camera;
-pub mod geometry;
-pub mod number;
-pub mod parse;
-pub mod render;
-pub mod scene;
+mod bytes;
+mod camera;
+mod geometry;
+mod number;
+mod parse;
+mod render;
+mod scene;
 
+pub use camera::{CameraSample, MAX_IMAGE_SIDE};
 pub use fixed::types::I16F16;
 pub use geometry::vec3::Vec3;
 pub use number::Scalar;
 pub use parse::{ErrorKind, ParseError};
+pub use render::progressive;
 pub use render::{render, render_with, Renderer};
 pub use scene::shape::Shape;
 pub use scene::{Scene, MAX_LIGHTS, MAX_OBJECTS};
 
-// The modules' former paths, kept for the host tests and tools: unstable.
+/// Internals for the host tests, the firmware's profiler and the tools:
+/// unstable, outside the API, may change in any release.
 #[doc(hidden)]
-pub use camera::{aperture, lfsr, sampler};
-#[doc(hidden)]
-pub use geometry::{transform, vec3};
-#[doc(hidden)]
-pub use number as scalar;
-#[doc(hidden)]
-pub use number::film;
-#[doc(hidden)]
-pub use render::{cull, footprint, progressive};
-#[doc(hidden)]
-pub use scene::{autofocus, shape};
+pub mod unstable {
+    pub use crate::camera::{aperture, lfsr, sampler};
+    pub use crate::geometry::{transform, vec3};
+    pub use crate::number::film;
+    pub use crate::render::{cull, footprint, progressive};
+    pub use crate::scene::{autofocus, shape};
+
+    /// `lensray::camera`'s items.
+    pub mod camera {
+        pub use crate::camera::*;
+    }
+    /// `lensray::scene`'s items.
+    pub mod scene {
+        pub use crate::scene::*;
+    }
+    /// `lensray::parse`'s items.
+    pub mod parse {
+        pub use crate::parse::*;
+    }
+    /// `lensray::render`'s items.
+    pub mod render {
+        pub use crate::render::*;
+    }
+    /// `lensray::number`'s items.
+    pub mod number {
+        pub use crate::number::*;
+    }
+    /// `lensray::geometry`'s items.
+    pub mod geometry {
+        pub use crate::geometry::*;
+    }
+    /// `lensray::bytes`'s items.
+    pub mod bytes {
+        pub use crate::bytes::*;
+    }
+}
 
 #[cfg(test)]
 mod layout_tests;

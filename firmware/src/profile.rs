@@ -6,7 +6,7 @@
 //! It walks every pixel the way [`lensray::Renderer`] does (the same lens
 //! samples, the same rays) and times, through the library's public API:
 //! the lens sample, the camera ray, each object's cone test (whether the ray
-//! can reach it at all, see `lensray::cull`), the intersection of each object
+//! can reach it at all, see `lensray::unstable::cull`), the intersection of each object
 //! the cone lets through (by shape, hit or miss, with the nearest hit so far
 //! as the limit, as the renderer's nearest-hit search does), the normal at
 //! the hit, the whole nearest-hit search and the whole trace.
@@ -19,9 +19,9 @@
 //! the mean over many calls is unbiased to a few instructions.
 
 use core::fmt::Write;
-use lensray::camera::CameraSample;
-use lensray::lfsr::Lfsr;
-use lensray::scene::MAX_LIGHTS;
+use lensray::CameraSample;
+use lensray::unstable::lfsr::Lfsr;
+use lensray::MAX_LIGHTS;
 use lensray::{Renderer, Scalar, Scene, Shape};
 
 use crate::instruction_count::{instructions, Counter};
@@ -134,7 +134,7 @@ pub fn run<S: Scalar>(
                     // Each object as the nearest-hit search meets it: first its cone,
                     // then, if the ray can reach it, the intersection limited by the
                     // nearest hit so far.
-                    let mut best: Option<(usize, lensray::scene::Hit<S>)> = None;
+                    let mut best: Option<(usize, lensray::unstable::scene::Hit<S>)> = None;
                     for (i, obj) in scene.objects().iter().enumerate() {
                         let (reach, t) = time(counter, ov, || cones.may_reach(i, d));
                         st.cone.add(t);

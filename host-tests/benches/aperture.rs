@@ -5,8 +5,8 @@
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::RgbColor;
-use lensray::aperture::Aperture;
-use lensray::lfsr::Lfsr;
+use lensray::unstable::aperture::Aperture;
+use lensray::unstable::lfsr::Lfsr;
 use lensray::{Renderer, Scene, I16F16};
 
 const PROGRAM1: &str = include_str!("../../scenes/paper-program1.scene");

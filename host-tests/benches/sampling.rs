@@ -23,7 +23,7 @@ use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::{Circle, Line, PrimitiveStyle, Rectangle};
 use embedded_graphics::text::Text;
-use lensray::sampler::Sampler;
+use lensray::unstable::sampler::Sampler;
 use lensray::Scene;
 use lensray_host::convergence::{measure, reference, Point as Quality, Setting};
 use lensray_host::{encode, write_atomic, Diff, Format, Image};

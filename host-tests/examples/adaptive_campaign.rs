@@ -6,10 +6,10 @@
 //! bash scripts/adaptive-campaign.sh [FIRST_SEED] [SEEDS] [WIDTH] [REFERENCE]
 //! ```
 //! Defaults: seeds 1..=40, 160x120, 1024 reference samples. A seed whose
-//! `point` is below [`lensray::render::ADAPTIVE_MIN_POINT`] is listed but not
+//! `point` is below [`lensray::unstable::render::ADAPTIVE_MIN_POINT`] is listed but not
 //! judged (below it even the smallest pilot is more than 40 % of `point`).
 
-use lensray::sampler::Sampler;
+use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
 use lensray_host::convergence::{measure, reference, Setting};
 
@@ -65,7 +65,7 @@ fn main() {
         } else {
             def.psnr - ind.psnr
         };
-        let judge = point >= lensray::render::ADAPTIVE_MIN_POINT;
+        let judge = point >= lensray::unstable::render::ADAPTIVE_MIN_POINT;
         let ok = margin >= 0.0 && share <= 0.4;
         if judge {
             judged += 1;

@@ -3,7 +3,7 @@
 //! is, with shadows off, and the pixels one number type draws as background
 //! where the other draws an object (the missing-horizon class).
 use embedded_graphics::pixelcolor::RgbColor;
-use lensray::camera::CameraSample;
+use lensray::CameraSample;
 use lensray::{Scene, I16F16};
 use lensray_host::{render_both, Diff, LineErrors};
 

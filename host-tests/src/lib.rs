@@ -21,7 +21,7 @@ pub mod sweep;
 pub use lensray_testkit::{Diff, Image, LineErrors};
 
 /// Largest image side the simulator accepts (the camera's limit).
-pub const MAX_SIDE: u32 = lensray::camera::MAX_IMAGE_SIDE;
+pub const MAX_SIDE: u32 = lensray::MAX_IMAGE_SIDE;
 
 /// Renders a whole image, rows in parallel on rayon's pool (all cores unless
 /// the pool is limited). The pixels do not depend on the order or the threads.

@@ -8,8 +8,8 @@
 mod common;
 
 use common::{level, render_fixed, render_float, scene_text, scenes_dir};
-use lensray::aperture::Aperture;
-use lensray::sampler::{PixelSamples, Sampler};
+use lensray::unstable::aperture::Aperture;
+use lensray::unstable::sampler::{PixelSamples, Sampler};
 use lensray_host::{Diff, Image, LineErrors};
 
 /// Size of the all-scenes sweep: small enough for CI, large enough that the

@@ -6,8 +6,8 @@
 //! the generated-scene campaign `cargo run --release -p lensray-host
 //! --example adaptive_campaign`).
 
-use lensray::render::{adaptive_pilot, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT};
-use lensray::sampler::Sampler;
+use lensray::unstable::render::{adaptive_pilot, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT};
+use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
 use lensray_host::convergence::{measure, reference, Setting};
 use lensray_host::{load_scene, Diff};

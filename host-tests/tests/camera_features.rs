@@ -3,8 +3,8 @@
 //! progressive passes that end in exactly the plain render.
 
 use embedded_graphics::pixelcolor::RgbColor;
-use lensray::camera::CameraSample;
 use lensray::progressive::{render_pass, Schedule};
+use lensray::CameraSample;
 use lensray::{Renderer, Scalar, Scene, I16F16};
 use lensray_host::passes::render_passes;
 use lensray_host::{render_image, Image};

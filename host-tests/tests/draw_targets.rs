@@ -11,7 +11,7 @@
 
 use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::*;
-use lensray::camera::MAX_IMAGE_SIDE;
+use lensray::MAX_IMAGE_SIDE;
 use lensray::{render, Renderer, Scalar, Scene, I16F16};
 use lensray_testkit::fuzz::Canvas;
 

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use lensray::parse::Word;
+use lensray::unstable::parse::Word;
 use lensray::{ErrorKind, ErrorKind::*, ParseError, Scene, I16F16, MAX_LIGHTS, MAX_OBJECTS};
 
 const Q16: &str = "must be below 32768 in magnitude (the range of Q16.16)";

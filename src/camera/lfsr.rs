@@ -213,18 +213,9 @@ mod tests {
 
     #[test]
     fn disk_samples_are_uncorrelated() {
-        let n = 100_000.0;
-        let (mut sx, mut sy, mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
-        for (x, y) in samples() {
-            assert!(x * x + y * y < 1.0);
-            sx += x;
-            sy += y;
-            sxx += x * x;
-            syy += y * y;
-            sxy += x * y;
-        }
-        let cov = sxy / n - sx / n * sy / n;
-        let corr = cov / ((sxx / n - (sx / n).powi(2)).sqrt() * (syy / n - (sy / n).powi(2)).sqrt());
+        let points: std::vec::Vec<(f64, f64)> = samples().collect();
+        assert!(points.iter().all(|(x, y)| x * x + y * y < 1.0));
+        let corr = correlation(&points);
         assert!(corr.abs() < 0.02, "correlation {corr}");
         // Also within one pixel's stream: successive draws of the same register.
         let mut r = Lfsr::for_pixel(7, 9, 0);
@@ -234,9 +225,7 @@ mod tests {
                 (x as f64, y as f64)
             })
             .collect();
-        let m = |f: &dyn Fn(&(f64, f64)) -> f64| pts.iter().map(f).sum::<f64>() / n;
-        let (mx, my) = (m(&|p| p.0), m(&|p| p.1));
-        let c = m(&|p| (p.0 - mx) * (p.1 - my)) / (m(&|p| (p.0 - mx).powi(2)) * m(&|p| (p.1 - my).powi(2))).sqrt();
+        let c = correlation(&pts);
         assert!(c.abs() < 0.02, "within-stream correlation {c}");
     }
 
@@ -262,11 +251,21 @@ mod tests {
         // The pitfall the docs warn of, shown: x and y from two successive states
         // (one clock apart) are strongly correlated, so the test above has teeth.
         let mut r = Lfsr::new(12345);
-        let n = 100_000.0;
+        let naive: std::vec::Vec<(f64, f64)> = (0..100_000)
+            .map(|_| {
+                let x = (r.step() >> 16) as i16 as f64;
+                (x, (r.step() >> 16) as i16 as f64)
+            })
+            .collect();
+        let corr = correlation(&naive);
+        assert!(corr.abs() > 0.1, "naive correlation only {corr}");
+    }
+
+    /// Pearson's correlation of the pairs' two coordinates.
+    fn correlation(points: &[(f64, f64)]) -> f64 {
+        let n = points.len() as f64;
         let (mut sx, mut sy, mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
-        for _ in 0..100_000 {
-            let x = (r.step() >> 16) as i16 as f64;
-            let y = (r.step() >> 16) as i16 as f64;
+        for &(x, y) in points {
             sx += x;
             sy += y;
             sxx += x * x;
@@ -274,7 +273,6 @@ mod tests {
             sxy += x * y;
         }
         let cov = sxy / n - sx / n * sy / n;
-        let corr = cov / ((sxx / n - (sx / n).powi(2)).sqrt() * (syy / n - (sy / n).powi(2)).sqrt());
-        assert!(corr.abs() > 0.1, "naive correlation only {corr}");
+        cov / ((sxx / n - (sx / n).powi(2)).sqrt() * (syy / n - (sy / n).powi(2)).sqrt())
     }
 }

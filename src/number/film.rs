@@ -3,13 +3,13 @@
 //! A pixel's chief ray runs along `D(i, j) = a i + b j + c` in world space,
 //! with `(i, j) = (2c + 1, 2r + 1)` its doubled centre and a, b, c fixed by the
 //! camera; a lens sample `(s_x, s_y)` tilts it to `D − s_x k_u − s_y k_v` (see
-//! [`crate::camera`]). In Q16.16 the map is held as integers at one scale
+//! `crate::camera`). In Q16.16 the map is held as integers at one scale
 //! chosen at set-up, so that a ray's direction costs six small products, one
 //! square root and one reciprocal, and comes out a unit vector to 30 bits.
 
 use crate::number::plane::unit_mantissas;
+use crate::number::q16::{shr_round, FixedDir};
 use crate::number::wide::{bits_u64, mul_i32};
-use crate::number::{shr_round, FixedDir};
 use fixed::types::I16F16;
 
 /// The map's exact parts, from the camera's set-up (world space).
@@ -166,53 +166,6 @@ impl FixedFilmMap {
     }
 }
 
-/// f32's film map: the parts rounded to f32.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct FloatFilmMap {
-    a: [f32; 3],
-    b: [f32; 3],
-    c: [f32; 3],
-    k_u: [f32; 3],
-    k_v: [f32; 3],
-}
-
-impl crate::bytes::Field for FloatFilmMap {
-    crate::bytes::baked_fields!(FloatFilmMap { a, b, c, k_u, k_v });
-}
-
-impl FloatFilmMap {
-    /// Rounds the parts. Set-up only.
-    pub fn new(d: &FilmMapDesc) -> FloatFilmMap {
-        let r = |v: [f64; 3]| v.map(|x| x as f32);
-        FloatFilmMap {
-            a: r(d.a),
-            b: r(d.b),
-            c: r(d.c),
-            k_u: r(d.k_u),
-            k_v: r(d.k_v),
-        }
-    }
-
-    /// `D(i, j)`.
-    #[inline]
-    pub fn film(&self, i: i32, j: i32) -> [f32; 3] {
-        let (i, j) = (i as f32, j as f32);
-        [0, 1, 2].map(|k| self.a[k] * i + self.b[k] * j + self.c[k])
-    }
-
-    /// The unit direction along `D − s_x k_u − s_y k_v`.
-    #[inline]
-    pub fn ray_dir(&self, film: &[f32; 3], lens: (i32, i32)) -> [f32; 3] {
-        let d = if lens == (0, 0) {
-            *film
-        } else {
-            let (sx, sy) = (lens.0 as f32 / 32768.0, lens.1 as f32 / 32768.0);
-            [0, 1, 2].map(|k| film[k] - sx * self.k_u[k] - sy * self.k_v[k])
-        };
-        <f32 as crate::number::Kernels>::normalize3(d).0
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -268,7 +221,7 @@ mod tests {
         for (c, d) in cameras().enumerate() {
             let ordinary = c == 0;
             let map = FixedFilmMap::new(&d);
-            let float = FloatFilmMap::new(&d);
+            let float = crate::number::float::FloatFilmMap::new(&d);
             for n in 0..2000 {
                 let i = 1 + 2 * (next() % (d.i_max as u32).div_ceil(2)) as i32;
                 let j = 1 + 2 * (next() % (d.j_max as u32).div_ceil(2)) as i32;

@@ -8,8 +8,8 @@
 //! hit within range. Every product of the 30-bit rows and mantissas is exact
 //! in an i64; grazing hits far away keep their precision.
 
+use crate::number::q16::{shr_round, FixedDir, FixedRow};
 use crate::number::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u64};
-use crate::number::{shr_round, FixedDir, FixedRow};
 use fixed::types::I16F16;
 
 /// Bits needed for `x` (0 for 0).
@@ -111,7 +111,7 @@ pub(crate) fn unit_mantissas(d: [i64; 3]) -> Option<[i64; 3]> {
             }
         })
     } else {
-        d.map(|x| crate::number::div_round_i64(x << 30, l as i64))
+        d.map(|x| crate::number::q16::div_round_i64(x << 30, l as i64))
     })
 }
 
@@ -151,7 +151,7 @@ pub(crate) fn plane_hit(
     if dz == 0 {
         return None;
     }
-    let oz = <I16F16 as crate::number::Kernels>::row_apply(&rows[2], o, true).to_bits() as i64;
+    let oz = rows[2].apply(o, true).to_bits() as i64;
     // t = −oz / (row_z · D): Q16.16 bits −oz · 2^(30 + shift) / dz.
     // A hit beyond Q16.16's range is drawn at its edge, not dropped: f32
     // draws it, and only the direction of a point that far matters.
@@ -161,31 +161,8 @@ pub(crate) fn plane_hit(
     }
     // Object-space x and y: o + t (row · D), in range only.
     let along = |i: usize| {
-        let start = <I16F16 as crate::number::Kernels>::row_apply(&rows[i], o, true).to_bits() as i64;
+        let start = rows[i].apply(o, true).to_bits() as i64;
         q16(start + scaled(t, dot(&rows[i], &d.m), 30 + rows[i].shift))
     };
     Some((q16(t), along(0), along(1)))
-}
-
-/// [`plane_hit`] in `f32`: the same plane through the same rows, with `d` of
-/// any length.
-pub(crate) fn plane_hit_f32(
-    rows: &[[f32; 4]; 3],
-    o: [f32; 3],
-    d: [f32; 3],
-    t_min: f32,
-    t_max: f32,
-) -> Option<(f32, f32, f32)> {
-    let ld = rows.map(|r| <f32 as crate::number::Kernels>::row_apply(&r, d, false));
-    if ld[2] == 0.0 {
-        return None;
-    }
-    let lo = rows.map(|r| <f32 as crate::number::Kernels>::row_apply(&r, o, true));
-    // s in units of ld, t in world units.
-    let s = -lo[2] / ld[2];
-    let t = s * <f32 as crate::number::Kernels>::length3(d);
-    if !(t > t_min && t < t_max) {
-        return None;
-    }
-    Some((t, lo[0] + ld[0] * s, lo[1] + ld[1] * s))
 }

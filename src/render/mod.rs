@@ -370,11 +370,7 @@ where
     D: DrawTarget,
     D::Color: From<Rgb888>,
 {
-    let origin = target.bounding_box().top_left;
-    // Only pixels with an i32 address are drawn: a target near the edge of the
-    // plane gets the part of the image that fits (`origin + row` would overflow).
-    let cols = renderer.camera().cols().min(addressable(origin.x));
-    let rows = renderer.camera().rows().min(addressable(origin.y));
+    let (origin, cols, rows) = addressable_area(renderer, target);
     for row in 0..rows {
         // No overflow: row < addressable(origin.y).
         let top_left = Point::new(origin.x, origin.y + row as i32);
@@ -382,6 +378,17 @@ where
         target.fill_contiguous(&area, (0..cols).map(|col| D::Color::from(renderer.pixel(col, row))))?;
     }
     Ok(())
+}
+
+/// The target's top-left corner and the image's columns and rows drawn there.
+/// Only pixels with an i32 address are drawn: a target near the edge of the
+/// plane gets the part of the image that fits (`origin + row` would overflow).
+#[inline]
+pub(crate) fn addressable_area<S: Scalar, D: DrawTarget>(renderer: &Renderer<'_, S>, target: &D) -> (Point, u32, u32) {
+    let origin = target.bounding_box().top_left;
+    let cols = renderer.camera().cols().min(addressable(origin.x));
+    let rows = renderer.camera().rows().min(addressable(origin.y));
+    (origin, cols, rows)
 }
 
 /// How many coordinates from `start` up fit in an i32: `i32::MAX - start + 1`, capped.

@@ -62,7 +62,7 @@
 //! ```
 
 use crate::number::Scalar;
-use crate::render::{addressable, Renderer};
+use crate::render::{addressable_area, Renderer};
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Point, Size};
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -236,10 +236,8 @@ where
     D: DrawTarget,
     D::Color: From<Rgb888>,
 {
-    let origin = target.bounding_box().top_left;
     // Only pixels with an i32 address, as render_with: no coordinate overflows.
-    let cols = renderer.camera().cols().min(addressable(origin.x));
-    let rows = renderer.camera().rows().min(addressable(origin.y));
+    let (origin, cols, rows) = addressable_area(renderer, target);
     let step = pass.step.max(1);
     if !row.is_multiple_of(step) || row >= rows {
         return Ok(());

@@ -3,7 +3,7 @@
 //! Bounded shapes (sphere, cube, cylinder, cone) are intersected by a ray whose
 //! direction is a unit vector and whose origin lies within a few units of the
 //! object's centre: the caller re-origins the ray at its object's bounding
-//! sphere first (see `Object::intersect` in [`crate::scene`]). Every square and
+//! sphere first (see `Object::intersect` in `crate::scene`). Every square and
 //! product then stays small, which is what keeps Q16.16 accurate and in range.
 //! The plane is unbounded and takes any origin. Every shape's `t` is a
 //! distance along the unit direction.

@@ -20,7 +20,7 @@ use embedded_graphics::geometry::{Dimensions, Point, Size};
 use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
-use lensray::parse::{Keyword, Section, KEYWORDS};
+use lensray::unstable::parse::{Keyword, Section, KEYWORDS};
 use lensray::{render_with, ErrorKind, ParseError, Renderer, Scalar, Scene, I16F16};
 
 /// Image size of the tiny renders: 8 × 6 pixels, 2 lens samples each.
@@ -175,7 +175,7 @@ fn render_tiny<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, samples: u32) -> Res
 /// The far corners of the largest image the camera takes: pixel indices and
 /// film sizes at their extremes.
 fn render_extremes<S: Scalar>(scene: &Scene<S>) {
-    let max = lensray::camera::MAX_IMAGE_SIDE;
+    let max = lensray::MAX_IMAGE_SIDE;
     for (w, h) in [(max, max), (max, 1), (1, max), (1, 1)] {
         let renderer = Renderer::new(scene, w, h).with_samples(2);
         for (c, r) in [(0, 0), (w - 1, h - 1), (w / 2, h / 2)] {

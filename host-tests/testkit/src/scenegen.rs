@@ -53,8 +53,8 @@ impl Default for Options {
     fn default() -> Self {
         Options {
             camera: Camera::Any,
-            max_objects: lensray::scene::MAX_OBJECTS,
-            max_lights: lensray::scene::MAX_LIGHTS,
+            max_objects: lensray::MAX_OBJECTS,
+            max_lights: lensray::MAX_LIGHTS,
         }
     }
 }
@@ -291,7 +291,7 @@ impl Gen {
     /// The value a number parses to: what the renderer will see.
     fn exact(&mut self, x: f64) -> f64 {
         let s = self.num(x);
-        lensray::parse::parse_decimal(&s).unwrap_or(0.0)
+        lensray::unstable::parse::parse_decimal(&s).unwrap_or(0.0)
     }
 
     /// Uniform in [lo, hi), as written.
@@ -756,7 +756,7 @@ fn last_value(text: &str, keyword: &str) -> Option<f64> {
             let mut w = l.split([' ', '\t']).filter(|w| !w.is_empty());
             (w.next() == Some(keyword)).then(|| w.next()).flatten()
         })
-        .filter_map(lensray::parse::parse_decimal)
+        .filter_map(lensray::unstable::parse::parse_decimal)
         .next_back()
 }
 
@@ -815,7 +815,7 @@ mod tests {
             .filter_map(|l| l.split([' ', '\t']).next())
             .map(str::to_string)
             .collect();
-        for k in lensray::parse::KEYWORDS {
+        for k in lensray::unstable::parse::KEYWORDS {
             assert!(words.contains(k), "no generated scene uses {k}");
         }
         let has = |s: &str| texts.iter().any(|t| t.contains(s));

@@ -20,7 +20,7 @@ use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{OriginDimensions, Size};
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use embedded_graphics_core::Pixel;
-use lensray::camera::CameraSample;
+use lensray::CameraSample;
 use lensray::progressive::{self, Pass, Schedule};
 use lensray::{Renderer, Scalar, Scene, I16F16};
 
@@ -140,8 +140,8 @@ pub extern "C" fn lr_message_len() -> u32 {
 #[no_mangle]
 pub extern "C" fn lr_setup(width: u32, height: u32, first_step: u32, preview_samples: u32) -> u32 {
     with(|s| {
-        let w = width.clamp(1, lensray::camera::MAX_IMAGE_SIDE);
-        let h = height.clamp(1, lensray::camera::MAX_IMAGE_SIDE);
+        let w = width.clamp(1, lensray::MAX_IMAGE_SIDE);
+        let h = height.clamp(1, lensray::MAX_IMAGE_SIDE);
         s.width = w;
         s.height = h;
         for img in s.images.iter_mut() {
@@ -287,7 +287,7 @@ pub fn hit_at<S: Scalar>(scene: &Scene<S>, width: u32, height: u32, col: u32, ro
     };
     let (o, d, t) = (ray.origin.to_array(), ray.dir.to_array(), hit.t.to_f64());
     let p = [0, 1, 2].map(|k| o[k].to_f64() + t * d[k].to_f64());
-    (i as u32 + 1, lensray::autofocus::depth(&scene.camera, p))
+    (i as u32 + 1, lensray::unstable::autofocus::depth(&scene.camera, p))
 }
 
 /// The parsed scene's camera, for the page's controls: 0 focus distance

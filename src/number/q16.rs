@@ -1,0 +1,166 @@
+//! The exact Q16.16 data the kernels share: matrix rows, precise directions
+//! and rounding shifts and divisions. A leaf under the trait, the film map and
+//! the plane, so none of them imports another's implementation.
+
+use crate::number::wide::{bits_u64, isqrt_round_u64, mul_i32, mul_i64, sar64, Recip};
+use fixed::types::I16F16;
+
+/// Q16.16 matrix row: entries `m[i] · 2^-shift` with `|m[i]| <= 2^30`, and the
+/// translation at scale `2^(shift + 16)`, so `row · v` is an exact i64 sum.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct FixedRow {
+    pub(crate) m: [i32; 3],
+    pub(crate) t: i64,
+    pub(crate) shift: u32,
+}
+
+impl crate::bytes::Field for FixedRow {
+    crate::bytes::baked_fields!(FixedRow { m, t, shift }, check(row) {
+        // The kernels' exact i64 sums need these bounds.
+        if row.shift > 30 || row.m.iter().any(|x| x.unsigned_abs() > 1 << 30) || row.t.unsigned_abs() > 1 << 60 {
+            return Err(crate::bytes::BakeError::OutOfRange("matrix row beyond its scale"));
+        }
+    });
+}
+
+impl FixedRow {
+    /// `row · v` (plus the translation when `affine`), rounded to Q16.16:
+    /// `Kernels::row_apply` for [`I16F16`], which the plane also calls.
+    #[inline]
+    pub(crate) fn apply(&self, v: [I16F16; 3], affine: bool) -> I16F16 {
+        let row = self;
+        // Each product <= 2^61 and t <= 2^60: the sum stays below 2^63: no overflow.
+        let mut s =
+            mul_i32(row.m[0], v[0].to_bits()) + mul_i32(row.m[1], v[1].to_bits()) + mul_i32(row.m[2], v[2].to_bits());
+        if affine {
+            s += row.t;
+        }
+        let q = if row.shift == 0 { s } else { shr_round(s, row.shift) };
+        I16F16::from_bits(sat32(q))
+    }
+}
+
+/// Q16.16's precise direction: `m[i] · 2^e`, with `|m[i]| < 2^31`.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct FixedDir {
+    pub(crate) m: [i64; 3],
+    pub(crate) e: i32,
+    /// Whether `|m|` is 2^-e within 2^-30 relative (the camera's rays): the
+    /// plane then needs no square root for world distances.
+    pub(crate) unit: bool,
+}
+
+impl FixedDir {
+    /// Normalises exact i128 components at scale `2^e` to 31-bit mantissas.
+    pub(crate) fn from_wide(w: [i128; 3], e: i32) -> FixedDir {
+        let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
+        let k = (128 - big.leading_zeros()).saturating_sub(31);
+        let m = w.map(|x| {
+            if k == 0 {
+                x as i64
+            } else {
+                (((x >> (k - 1)) + 1) >> 1) as i64
+            }
+        });
+        FixedDir {
+            m,
+            e: e + k as i32,
+            unit: false,
+        }
+    }
+
+    /// Normalises exact i64 components at scale `2^e` to 31-bit mantissas.
+    #[inline]
+    pub(crate) fn from_i64(w: [i64; 3], e: i32) -> FixedDir {
+        let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
+        let k = bits_u64(big).saturating_sub(31);
+        let m = if k == 0 {
+            w
+        } else {
+            w.map(|x| ((x >> (k - 1)) + 1) >> 1)
+        };
+        FixedDir {
+            m,
+            e: e + k as i32,
+            unit: false,
+        }
+    }
+
+    /// `rows · v` (+ the translation if `affine`) exactly, for `v` in Q16.16
+    /// bits or mantissas below 2^31, as a direction at scale `2^(e - shift)`.
+    /// Each product is below 2^61 and the translation below 2^60: an i64 sum
+    /// holds a row; rows of different scales meet in i128.
+    #[inline]
+    pub(crate) fn exact_rows(rows: &[FixedRow; 3], v: [i64; 3], affine: bool, e: i32) -> FixedDir {
+        let row = |r: &FixedRow| {
+            mul_i64(r.m[0] as i64, v[0])
+                + mul_i64(r.m[1] as i64, v[1])
+                + mul_i64(r.m[2] as i64, v[2])
+                + if affine { r.t } else { 0 }
+        };
+        let common = rows.iter().map(|r| r.shift).max().unwrap_or(0);
+        if rows.iter().all(|r| r.shift == common) {
+            return FixedDir::from_i64([row(&rows[0]), row(&rows[1]), row(&rows[2])], e - common as i32);
+        }
+        let w: [i128; 3] = core::array::from_fn(|i| (row(&rows[i]) as i128) << (common - rows[i].shift));
+        FixedDir::from_wide(w, e - common as i32)
+    }
+
+    /// `|self|` as a mantissa below 2^32 at scale `2^e`.
+    pub(crate) fn length(&self) -> u64 {
+        let sq: u64 = self.m.iter().map(|&c| mul_i64(c, c) as u64).sum();
+        isqrt_round_u64(sq)
+    }
+}
+
+/// `n / d` rounded to nearest (ties away from zero), for `d != 0`, in i64:
+/// through [`Recip`] when `|d|` fits 32 bits.
+#[inline]
+pub(crate) fn div_round_i64(n: i64, d: i64) -> i64 {
+    let du = d.unsigned_abs();
+    if du >> 32 == 0 {
+        return div_round_i64_by(n, &Recip::new(du as u32), d < 0);
+    }
+    let nu = n.unsigned_abs();
+    let q = (nu / du + u64::from(nu % du >= du - du / 2)) as i64;
+    if (n < 0) != (d < 0) {
+        -q
+    } else {
+        q
+    }
+}
+
+/// `n / d` rounded to nearest (ties away from zero), exactly as
+/// [`div_round_i64`], for the divisor `d = ±r.divisor()` with the sign
+/// `d_neg`: several divisions by one `d` compute its reciprocal once.
+#[inline]
+pub(crate) fn div_round_i64_by(n: i64, r: &Recip, d_neg: bool) -> i64 {
+    let (q, rem) = r.div_rem(n.unsigned_abs());
+    let d = r.divisor();
+    let q = (q + u64::from(rem >= d - d / 2)) as i64;
+    if (n < 0) != d_neg {
+        -q
+    } else {
+        q
+    }
+}
+
+/// Rounds `x / 2^s` to nearest (ties up), for `0 < s < 63`.
+#[inline]
+pub(crate) fn shr_round(x: i64, s: u32) -> i64 {
+    // One variable shift (a library call on the M0), then the last bit by hand.
+    let r = sar64(x, s - 1);
+    (r >> 1) + (r & 1)
+}
+
+/// Saturates an i64 to the i32 range.
+#[inline]
+pub(crate) fn sat32(x: i64) -> i32 {
+    if x > i32::MAX as i64 {
+        i32::MAX
+    } else if x < i32::MIN as i64 {
+        i32::MIN
+    } else {
+        x as i32
+    }
+}

@@ -1,0 +1,186 @@
+//! The number trait [`Scalar`] and the sealed machinery behind it
+//! ([`Kernels`]), with [`BakeScalar`] for the baked form. Declarations only:
+//! the Q16.16 implementation is in `fixed`, the `f32` one in `float`.
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for fixed::types::I16F16 {}
+    impl Sealed for f32 {}
+}
+
+/// The number type of a renderer: Q16.16 [`I16F16`](fixed::types::I16F16) or `f32`.
+///
+/// See the module docs of `number` (`src/number/mod.rs`) for the rules all implementations follow.
+pub trait Scalar: Copy + PartialOrd + core::fmt::Debug + Send + Sync + sealed::Sealed + Kernels + 'static {
+    /// 0.
+    const ZERO: Self;
+    /// 1.
+    const ONE: Self;
+    /// The largest finite value; "no hit yet" and saturated results.
+    const MAX: Self;
+    /// Smallest ray parameter that counts as a hit (about 2⁻¹⁰ world units):
+    /// keeps a reflected or shadow ray from hitting the surface it left.
+    const HIT_EPSILON: Self;
+    /// Short human name of the number type ("Q16.16", "f32").
+    const NAME: &'static str;
+    /// Rounds an `f64` to the nearest value of this type, saturating. Set-up only.
+    fn from_f64(x: f64) -> Self;
+    /// The exact value as `f64` (for tests and reports; never on the per-ray path).
+    fn to_f64(self) -> f64;
+    /// Converts a small integer exactly (|i| < 32768 for Q16.16; saturates beyond).
+    fn from_i32(i: i32) -> Self;
+    /// Converts a Q1.15 lens-sample coordinate `i / 32768` exactly.
+    fn from_q15(i: i32) -> Self;
+
+    /// `self + o`, saturating.
+    fn add(self, o: Self) -> Self;
+    /// `self - o`, saturating.
+    fn sub(self, o: Self) -> Self;
+    /// `self * o`, rounded to nearest, saturating.
+    fn mul(self, o: Self) -> Self;
+    /// `self / o`, saturating; division by zero saturates (0 / 0 = 0).
+    fn div(self, o: Self) -> Self;
+    /// `-self`, saturating.
+    fn neg(self) -> Self;
+    /// `|self|`, saturating.
+    fn abs(self) -> Self;
+    /// Square root; 0 for negative input. Correctly rounded for `f32`,
+    /// within one unit in the last place for Q16.16.
+    fn sqrt(self) -> Self;
+    /// `self ^ e` for a base in [0, 1] and an exponent `e >= 0`
+    /// (the Phong power); `0 ^ 0 = 1`.
+    fn powf(self, e: Self) -> Self;
+    /// The largest integer not above `self`.
+    fn floor_i32(self) -> i32;
+
+    /// `min(self, o)`.
+    #[inline]
+    fn min(self, o: Self) -> Self {
+        if o < self {
+            o
+        } else {
+            self
+        }
+    }
+    /// `max(self, o)`.
+    #[inline]
+    fn max(self, o: Self) -> Self {
+        if o > self {
+            o
+        } else {
+            self
+        }
+    }
+}
+
+/// Sealed: `Kernels` is public in a private module, so outside the crate it
+/// can be neither named nor implemented (heapless's `LenType` pattern).
+mod kernels {
+    use crate::number::film::FilmMapDesc;
+
+    /// The machinery behind [`Scalar`]: exact matrix rows, precise directions,
+    /// the film map and the plane, accumulators. Sealed (its module is private),
+    /// so it can change without breaking the public trait.
+    pub trait Kernels: Copy + Sized {
+        /// Whether a shadow ray leaving the lit side of a convex object skips
+        /// that object: Q16.16's absolute rounding at a large object's magnitude
+        /// outgrows any fixed offset (f32's relative rounding does not; its
+        /// images stay as they were).
+        const SHADOW_SKIPS_OWN_CONVEX: bool;
+
+        /// The checker's scale for a square side `side` (> 0), as
+        /// [`Kernels::checker_cell`] takes it: `1 / side` by default. Set-up only.
+        fn checker_scale(side: f64) -> Self;
+
+        /// The checker cell index along one axis, `floor(x / side)`, with `side`
+        /// the square side in `Self` and `scale` from [`Kernels::checker_scale`].
+        fn checker_cell(x: Self, side: Self, scale: Self) -> i64;
+
+        /// One row of an affine matrix, stored more precisely than `Self`
+        /// (Q16.16 keeps up to 30 fraction bits; see `Kernels::row_from_f64`).
+        type Row: Copy + core::fmt::Debug + Send + Sync;
+        /// Accumulator for sums of many colours (a pixel's samples).
+        type Acc: Copy + core::fmt::Debug + Send + Sync;
+
+        /// Length of a 3-vector, computed without intermediate overflow.
+        fn length3(v: [Self; 3]) -> Self;
+        /// Unit vector along `v`, and the length of `v`. A zero vector gives zero.
+        fn normalize3(v: [Self; 3]) -> ([Self; 3], Self);
+        /// `|v|² <= r²`, decided exactly (no intermediate overflow).
+        fn within(v: [Self; 3], r: Self) -> bool;
+        /// `a · b > 0`, decided exactly for Q16.16 (no rounding, no saturation).
+        fn dot_positive(a: [Self; 3], b: [Self; 3]) -> bool;
+
+        /// Builds a matrix row `(a, b, c, t)` from its exact `f64` entries.
+        fn row_from_f64(r: [f64; 4]) -> Self::Row;
+        /// `a·x + b·y + c·z (+ t if affine)`, with one rounding at the end.
+        fn row_apply(row: &Self::Row, v: [Self; 3], affine: bool) -> Self;
+
+        /// The direction `M v` for the three rows of a matrix, as a unit vector
+        /// with its length `|M v|` and, where that is below 1, the reciprocal
+        /// `1 / |M v|` (0 otherwise), all from the exact product: a large scale
+        /// (rows of 1/2000) keeps its precision, where rounding `M v` to `Self`
+        /// first would leave it a few bits. A zero result gives zeros.
+        fn rows_apply_unit(rows: &[Self::Row; 3], v: [Self; 3]) -> ([Self; 3], Self, Self);
+
+        /// A ray direction held more precisely than three `Self` values (Q16.16:
+        /// 31-bit mantissas with a shared power of two), for the unbounded plane,
+        /// whose hits along a grazing ray move by the ray's direction error times
+        /// the square of the distance.
+        type Dir: Copy + core::fmt::Debug + PartialEq + Send + Sync;
+        /// A vector as a precise direction, exactly.
+        fn dir_from(v: [Self; 3]) -> Self::Dir;
+        /// A camera's exact map from pixels to its rays' directions (see [`crate::number::film`]).
+        type FilmMap: Copy + core::fmt::Debug + Send + Sync;
+        /// A pixel's chief direction as the film map gives it, before the lens.
+        type Film: Copy + core::fmt::Debug + PartialEq + Send + Sync;
+        /// Rounds a film map's exact parts. Set-up only.
+        fn film_map(desc: &FilmMapDesc) -> Self::FilmMap;
+        /// The chief direction `D(i, j)` of the doubled pixel centre (i, j).
+        fn film_dir(map: &Self::FilmMap, i: i32, j: i32) -> Self::Film;
+        /// The unit direction along the film direction tilted by a lens sample
+        /// (Q1.15; (0, 0) for the chief ray): precise, marked unit, and rounded.
+        fn film_ray_dir(map: &Self::FilmMap, film: &Self::Film, lens: (i32, i32)) -> (Self::Dir, [Self; 3]);
+        /// Where the world ray `o + t d` meets the object-space plane z = 0 of an
+        /// object whose world → object matrix has these rows, for `t_min < t < t_max`:
+        /// `(t, x, y)`, t the world distance in units of |d| (a unit direction
+        /// marked so needs no square root) and (x, y, 0) the object-space point.
+        fn plane_hit(
+            rows: &[Self::Row; 3],
+            o: [Self; 3],
+            d: Self::Dir,
+            t_min: Self,
+            t_max: Self,
+        ) -> Option<(Self, Self, Self)>;
+
+        /// The empty accumulator.
+        fn acc_zero() -> Self::Acc;
+        /// `acc + x`.
+        fn acc_add(acc: Self::Acc, x: Self) -> Self::Acc;
+        /// `acc / n`, saturating (n > 0).
+        fn acc_mean(acc: Self::Acc, n: u32) -> Self;
+
+        /// A colour channel clamped to [0, 1] and rounded to 8 bits: `round(255 v)`.
+        fn to_u8(self) -> u8;
+
+        /// A colour channel in 8-bit levels, unclamped above white: `⌊255 v⌋`
+        /// clamped to 0..=65535 (what adaptive sampling's statistics count).
+        fn to_level(self) -> u32;
+    }
+}
+pub(crate) use kernels::Kernels;
+
+/// A number type whose renderers can be baked: [`I16F16`](fixed::types::I16F16) and `f32`. Its
+/// matrix rows and film map have baked forms too.
+pub trait BakeScalar:
+    Scalar<Row = <Self as BakeScalar>::BakedRow, FilmMap = <Self as BakeScalar>::BakedFilmMap> + crate::bytes::Field
+{
+    /// The number type's tag in the header: 0 Q16.16, 1 f32.
+    const TAG: u8;
+    /// `Kernels::Row`.
+    type BakedRow: crate::bytes::Field + Copy + core::fmt::Debug + Send + Sync;
+    /// `Kernels::FilmMap`.
+    type BakedFilmMap: crate::bytes::Field + Copy + core::fmt::Debug + Send + Sync;
+    /// Whether the film map's integer kernels stay in range for this image size.
+    fn film_map_fits(map: &Self::BakedFilmMap, cols: u32, rows: u32) -> bool;
+}
