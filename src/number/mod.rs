@@ -26,6 +26,7 @@ use fixed::types::I16F16;
 
 pub mod film;
 pub(crate) mod plane;
+pub(crate) mod quadric;
 pub(crate) mod wide;
 
 mod sealed {
@@ -178,6 +179,14 @@ mod kernels {
             t_min: Self,
             t_max: Self,
         ) -> Option<(Self, Self, Self)>;
+
+        /// The roots `(t0, t1)` of the cylinder's (`cone` false) or the cone's
+        /// side quadric along the object-space ray `o + t d`, where the type
+        /// computes them exactly (Q16.16: `number::quadric`): `Some(None)` for
+        /// no root. `None`: the shape's generic quadratic (f32, unchanged).
+        fn side_roots(_o: [Self; 3], _d: [Self; 3], _cone: bool) -> Option<Option<(Self, Self)>> {
+            None
+        }
 
         /// The empty accumulator.
         fn acc_zero() -> Self::Acc;
@@ -760,6 +769,9 @@ impl Kernels for I16F16 {
         t_max: Self,
     ) -> Option<(Self, Self, Self)> {
         crate::number::plane::plane_hit(rows, o, d, t_min, t_max)
+    }
+    fn side_roots(o: [Self; 3], d: [Self; 3], cone: bool) -> Option<Option<(Self, Self)>> {
+        Some(crate::number::quadric::side_roots(o, d, cone))
     }
     #[inline]
     fn acc_zero() -> i64 {
