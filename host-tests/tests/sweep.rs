@@ -81,8 +81,8 @@ fn every_regression_scene_meets_the_floors() {
 #[test]
 fn open_regression_scenes_get_no_worse() {
     let files = corpus("sweep-regressions/open");
-    assert!(files.len() >= 8, "the corpus lost scenes");
-    // The worst of them as filed: 33.0 dB, 99.40 % within 2, a column 8.6 levels off.
-    let bad = under(&files, 32.5, 0.99, 9.0);
+    assert!(files.len() >= 4, "the corpus lost scenes");
+    // The worst of them now: 43.4 dB, 99.42 % within 2, a column 3.65 levels off.
+    let bad = under(&files, 43.0, 0.994, 3.8);
     assert!(bad.is_empty(), "worse than when filed: {bad:?}");
 }

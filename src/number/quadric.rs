@@ -11,7 +11,7 @@
 //! a cone's apex by 0.01 of its size.
 
 use crate::number::div_round_i64;
-use crate::number::wide::{isqrt_round_u64, mul_i32};
+use crate::number::wide::{isqrt_round_u64, mul_i32, mul_u32};
 use fixed::types::I16F16;
 
 /// `n / d` as Q16.16 bits, rounded and saturated, for `d != 0`.
@@ -25,15 +25,30 @@ fn ratio_q16(n: i64, d: i64) -> I16F16 {
     I16F16::from_bits(q.clamp(i32::MIN as i128, i32::MAX as i128) as i32)
 }
 
-/// `floor(sqrt(x))`-rounded root of an i128 `x >= 0`, as an i64: scaled into
-/// a u64 by an even shift where needed (the root then keeps 31 bits).
+/// `a · b` exactly, from four 32 × 32-bit products: no i128 multiply (a
+/// library call, and stack, on the Cortex-M0).
+fn mul_wide(a: i64, b: i64) -> i128 {
+    let (ua, ub) = (a.unsigned_abs(), b.unsigned_abs());
+    let (a0, a1, b0, b1) = (ua as u32, (ua >> 32) as u32, ub as u32, (ub >> 32) as u32);
+    let mid = mul_u32(a0, b1) as u128 + mul_u32(a1, b0) as u128;
+    let p = mul_u32(a0, b0) as u128 + (mid << 32) + ((mul_u32(a1, b1) as u128) << 64);
+    if (a < 0) != (b < 0) {
+        -(p as i128)
+    } else {
+        p as i128
+    }
+}
+
+/// The rounded square root of an i128 `x >= 0`, as an i64: scaled into a u64
+/// by constant two-bit shifts where needed (the root then keeps 31 bits).
 fn sqrt_wide(x: i128) -> i64 {
-    let x = x as u128;
+    let mut x = x as u128;
     let mut k = 0;
-    while x >> (2 * k) >= 1 << 62 {
+    while x >> 62 != 0 {
+        x >>= 2;
         k += 1;
     }
-    (isqrt_round_u64((x >> (2 * k)) as u64) << k) as i64
+    (isqrt_round_u64(x as u64) << k) as i64
 }
 
 /// The side roots `(t0, t1)`, `t0 <= t1`, of the ray `o + t d` (object space,
@@ -65,7 +80,7 @@ pub(crate) fn side_roots(o: [I16F16; 3], d: [I16F16; 3], cone: bool) -> Option<(
         let t = ratio_q16(-c, 2 * b);
         return Some((t, t));
     }
-    let disc = (b as i128) * (b as i128) - (a as i128) * (c as i128);
+    let disc = mul_wide(b, b) - mul_wide(a, c);
     if disc < 0 {
         return None;
     }

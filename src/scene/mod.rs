@@ -313,14 +313,13 @@ impl<S: Scalar> Object<S> {
         if len == S::ZERO && inv_len == S::ZERO {
             return false;
         }
-        let to_local = |t: S| {
-            let s = t.div(dist);
-            if len >= S::ONE {
-                s.mul(len)
-            } else {
-                s.div(inv_len)
-            }
+        // Local per world distance, |A l|, as `intersect_dir` holds it.
+        let (by_len, k) = if len >= S::ONE {
+            (true, len.div(dist))
+        } else {
+            (false, inv_len.mul(dist))
         };
+        let to_local = |t: S| if by_len { t.mul(k) } else { t.div(k) };
         // Re-origin on the exact line o + s v (an error along it only shifts t).
         let t_off = tc.sub(radius).max(S::ZERO);
         let lo = self.to_object.point(o + v * t_off.div(dist));
