@@ -55,6 +55,8 @@ fn sqrt_wide(x: i128) -> i64 {
 /// Q16.16), or `None` where the ray misses the side's surface (or, for the
 /// cylinder, runs along its axis). A cone's ray along one of its lines has one
 /// root, returned twice.
+// Not inlined: its wide locals stay out of the callers' frames (the M0's 8 KiB of stack).
+#[inline(never)]
 pub(crate) fn side_roots(o: [I16F16; 3], d: [I16F16; 3], cone: bool) -> Option<(I16F16, I16F16)> {
     let [ox, oy, oz] = o.map(I16F16::to_bits);
     let [dx, dy, dz] = d.map(I16F16::to_bits);

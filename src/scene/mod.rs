@@ -295,6 +295,8 @@ impl<S: Scalar> Object<S> {
     /// `t_min < t < dist`. With `Kernels::SHADOW_PRECISE_DIR`, a bounded shape
     /// takes its object-space direction and re-origin from `v` itself: the
     /// rounded `d` (2⁻¹⁷ a component) put a blocker 150 units on 1e-3 aside.
+    // Not inlined: its locals stay out of the shading frame (the M0's 8 KiB of stack).
+    #[inline(never)]
     pub(crate) fn blocks(&self, o: Vec3<S>, d: Vec3<S>, v: Vec3<S>, dist: S, t_min: S) -> bool {
         if !S::SHADOW_PRECISE_DIR || self.shape == Shape::Plane {
             return self.intersect(o, d, t_min, dist).is_some();
