@@ -150,7 +150,10 @@ mod tests {
                     continue;
                 }
                 // One Q16.16 rounding of the result, and slack for the root's own.
-                assert!((g.to_num::<f64>() - r).abs() <= 2f64.powi(-15), "{o:?} {d:?}: {g} vs {r}");
+                assert!(
+                    (g.to_num::<f64>() - r).abs() <= 2f64.powi(-15),
+                    "{o:?} {d:?}: {g} vs {r}"
+                );
             }
         }
         assert!(checked > 10000);

@@ -55,7 +55,9 @@ impl<S: Scalar> Scene<S> {
     /// Whether anything lies on the ray within `t_min < t < t_max`
     /// (stops at the first hit: shadow rays).
     pub fn any_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> bool {
-        self.objects.iter().any(|obj| obj.intersect(o, d, t_min, t_max).is_some())
+        self.objects
+            .iter()
+            .any(|obj| obj.intersect(o, d, t_min, t_max).is_some())
     }
 
     /// Whether anything but object `skip` (if given) lies on the shadow ray

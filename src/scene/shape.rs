@@ -250,8 +250,13 @@ fn cylinder<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<Loc
     let normal = |p: Vec3<S>| Vec3::new(p.x, S::ZERO, p.z);
     let mut best = None;
     // Q16.16's exact roots where it has them; else the quadratic in S.
-    let side = S::side_roots(o.to_array(), d.to_array(), false)
-        .unwrap_or_else(|| if negligible(a) { None } else { roots(a, b, c) });
+    let side = S::side_roots(o.to_array(), d.to_array(), false).unwrap_or_else(|| {
+        if negligible(a) {
+            None
+        } else {
+            roots(a, b, c)
+        }
+    });
     if let Some((t0, t1)) = side {
         best = side_hit(o, d, t0, t_min, t_max, normal).or_else(|| side_hit(o, d, t1, t_min, t_max, normal));
     }
