@@ -270,7 +270,9 @@ impl<S: Scalar> Object<S> {
         // distances: kept as |A d| where that is 1 or more and as 1 / |A d| where
         // it is below (a large object's 1/2000 would keep only five bits in
         // Q16.16, its reciprocal all of them).
-        let (ld, len, inv_len) = self.to_object.vector_unit(d);
+        // A camera ray's precise direction where the type has it (Q16.16): the
+        // rounded d, 2^-17 a component, moved a silhouette 50 away by 4e-4.
+        let (ld, len, inv_len) = self.to_object.dir_unit(&precise).unwrap_or_else(|| self.to_object.vector_unit(d));
         if len == S::ZERO && inv_len == S::ZERO {
             return None;
         }
@@ -279,7 +281,8 @@ impl<S: Scalar> Object<S> {
         let to_world = |t: S| if by_len { t.div(len) } else { t.mul(inv_len) };
         // Re-origin the ray at the sphere's edge so object-space numbers stay small.
         let t_off = tc.sub(radius).max(S::ZERO);
-        let lo = self.to_object.point(o + d * t_off);
+        let start = S::along_dir(o.to_array(), &precise, t_off).map_or_else(|| o + d * t_off, Vec3::from_array);
+        let lo = self.to_object.point(start);
         let lt_min = to_local(t_min.sub(t_off));
         let lt_max = to_local(t_max.sub(t_off));
         let h = self.shape.intersect_bounded(lo, ld, lt_min, lt_max)?;
