@@ -585,7 +585,6 @@ impl Scalar for I16F16 {
     }
 }
 
-
 /// The unit vector, length and reciprocal length (below 1) of an exact
 /// product at Q16.16 scale: [`Kernels::rows_apply_unit`]'s rounding.
 fn unit_of_exact(mut d: FixedDir) -> ([I16F16; 3], I16F16, I16F16) {
@@ -767,7 +766,8 @@ impl Kernels for I16F16 {
     }
     fn rows_apply_dir(rows: &[FixedRow; 3], d: &FixedDir) -> Option<([Self; 3], Self, Self)> {
         // Mantissas at 2^e are Q16.16 bits at 2^(e + 16).
-        d.unit.then(|| unit_of_exact(FixedDir::exact_rows(rows, d.m, false, d.e + 16)))
+        d.unit
+            .then(|| unit_of_exact(FixedDir::exact_rows(rows, d.m, false, d.e + 16)))
     }
     fn along_dir(o: [Self; 3], d: &FixedDir, t: Self) -> Option<[Self; 3]> {
         // D t in Q16.16 bits is m t 2^e: 31-bit factors, one rounding.
