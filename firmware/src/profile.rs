@@ -19,8 +19,8 @@
 //! the mean over many calls is unbiased to a few instructions.
 
 use core::fmt::Write;
-use lensray::CameraSample;
 use lensray::unstable::lfsr::Lfsr;
+use lensray::CameraSample;
 use lensray::MAX_LIGHTS;
 use lensray::{Renderer, Scalar, Scene, Shape};
 

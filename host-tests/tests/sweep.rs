@@ -9,8 +9,8 @@ const MIN_PSNR: f64 = 40.0;
 const MIN_WITHIN2: f64 = 0.995;
 /// Largest row or column mean error in levels. The floor is 2; a
 /// single pixel of full contrast at an object's silhouette is 2.1 in a
-/// 120-pixel column (see docs/accuracy.md, "What remains").
-const MAX_LINE_160: f64 = 2.2;
+/// 120-pixel column (seeds 59 and 3162; see docs/accuracy.md, "What remains").
+const MAX_LINE_160: f64 = 2.15;
 
 /// PSNR floor at 64x48: one pixel of full contrast in one channel alone is
 /// 39.6 dB there (a grazing silhouette that a sub-ULP error moves; see
@@ -81,8 +81,8 @@ fn every_regression_scene_meets_the_floors() {
 #[test]
 fn open_regression_scenes_get_no_worse() {
     let files = corpus("sweep-regressions/open");
-    assert!(files.len() >= 8, "the corpus lost scenes");
-    // The worst of them as filed: 33.0 dB, 99.40 % within 2, a column 8.6 levels off.
-    let bad = under(&files, 32.5, 0.99, 9.0);
+    assert!(files.len() >= 3, "the corpus lost scenes");
+    // The worst of them now: 50.9 dB, 99.42 % within 2, a column 3.65 levels off.
+    let bad = under(&files, 50.5, 0.994, 3.7);
     assert!(bad.is_empty(), "worse than when filed: {bad:?}");
 }

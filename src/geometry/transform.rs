@@ -171,6 +171,13 @@ impl<S: Scalar> Affine<S> {
         (Vec3::from_array(u), len, inv)
     }
 
+    /// [`Transform::vector_unit`] of a precise direction where the number type
+    /// has one (`Kernels::rows_apply_dir`: a camera ray's in Q16.16).
+    #[inline]
+    pub fn dir_unit(&self, d: &S::Dir) -> Option<(Vec3<S>, S, S)> {
+        S::rows_apply_dir(&self.rows, d).map(|(u, len, inv)| (Vec3::from_array(u), len, inv))
+    }
+
     /// Where the world ray `o + t d` meets this object's plane z = 0 (see
     /// `Kernels::plane_hit`), for `t_min < t < t_max`.
     #[inline]

@@ -234,8 +234,57 @@ impl Scalar for I16F16 {
     }
 }
 
+/// The unit vector, length and reciprocal length (below 1) of an exact
+/// product at Q16.16 scale: [`Kernels::rows_apply_unit`]'s rounding.
+fn unit_of_exact(mut d: FixedDir) -> ([I16F16; 3], I16F16, I16F16) {
+    let zero = ([I16F16::ZERO; 3], I16F16::ZERO, I16F16::ZERO);
+    // The exact product as mantissas x at scale 2^e, cut to 21 bits: the
+    // unit vector needs 17, and the square root's cost grows with the width.
+    let cut = bits_u64(d.m.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0)).saturating_sub(21);
+    if cut > 0 {
+        d.m = d.m.map(|x| ((x >> (cut - 1)) + 1) >> 1);
+        d.e += cut as i32;
+    }
+    let l = d.length();
+    if l == 0 {
+        return zero;
+    }
+    // Unit components in Q16.16, rounded: x · 2^16 / l, through one
+    // reciprocal 2^62 / l; |x| <= l keeps x · recip below 2^62.
+    let recip = div_rem_u64(1 << 62, l).0;
+    let unit = d.m.map(|c| {
+        let q = ((mul_u64(c.unsigned_abs(), recip) + (1 << 45)) >> 46) as i64;
+        I16F16::from_bits(sat32(if c < 0 { -q } else { q }))
+    });
+    // The product's value is x · 2^(e - 16): |M v| is l · 2^e in Q16.16 bits.
+    let e = d.e;
+    let shifted = |x: u64, s: i32| -> u64 {
+        if s >= 0 {
+            if s >= 32 || x >> (63 - s) != 0 {
+                u64::MAX
+            } else {
+                x << s
+            }
+        } else if s <= -64 {
+            0
+        } else {
+            (x + (1 << (-s - 1))) >> -s
+        }
+    };
+    let len_bits = shifted(l, e);
+    let len = I16F16::from_bits(len_bits.min(i32::MAX as u64) as i32);
+    // 1 / |M v| in Q16.16 bits, 2^32 / (l · 2^e): needed only below 1.
+    let inv = if len_bits >= 1 << 16 {
+        I16F16::ZERO
+    } else {
+        I16F16::from_bits(shifted(recip, -30 - e).min(i32::MAX as u64) as i32)
+    };
+    (unit, len, inv)
+}
+
 impl Kernels for I16F16 {
     const SHADOW_SKIPS_OWN_CONVEX: bool = true;
+    const SHADOW_PRECISE_DIR: bool = true;
     fn checker_scale(side: f64) -> Self {
         // 1 / side as a mantissa m = 2^(29 + b) / (side 2^16) in (2^29, 2^30],
         // b the bit length of the side's Q16.16 bits (exact for a power of
@@ -356,50 +405,23 @@ impl Kernels for I16F16 {
         row.apply(v, affine)
     }
     fn rows_apply_unit(rows: &[FixedRow; 3], v: [Self; 3]) -> ([Self; 3], Self, Self) {
-        let zero = ([I16F16::ZERO; 3], I16F16::ZERO, I16F16::ZERO);
-        // The exact product as mantissas x at scale 2^e, cut to 21 bits: the
-        // unit vector needs 17, and the square root's cost grows with the width.
-        let mut d = FixedDir::exact_rows(rows, v.map(|x| x.to_bits() as i64), false, 0);
-        let cut = bits_u64(d.m.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0)).saturating_sub(21);
-        if cut > 0 {
-            d.m = d.m.map(|x| ((x >> (cut - 1)) + 1) >> 1);
-            d.e += cut as i32;
+        unit_of_exact(FixedDir::exact_rows(rows, v.map(|x| x.to_bits() as i64), false, 0))
+    }
+    fn rows_apply_dir(rows: &[FixedRow; 3], d: &FixedDir) -> Option<([Self; 3], Self, Self)> {
+        // Mantissas at 2^e are Q16.16 bits at 2^(e + 16).
+        d.unit
+            .then(|| unit_of_exact(FixedDir::exact_rows(rows, d.m, false, d.e + 16)))
+    }
+    fn along_dir(o: [Self; 3], d: &FixedDir, t: Self) -> Option<[Self; 3]> {
+        // D t in Q16.16 bits is m t 2^e: 31-bit factors, one rounding.
+        let s = -d.e;
+        if !d.unit || !(1..62).contains(&s) {
+            return None;
         }
-        let l = d.length();
-        if l == 0 {
-            return zero;
-        }
-        // Unit components in Q16.16, rounded: x · 2^16 / l, through one
-        // reciprocal 2^62 / l; |x| <= l keeps x · recip below 2^62.
-        let recip = div_rem_u64(1 << 62, l).0;
-        let unit = d.m.map(|c| {
-            let q = ((mul_u64(c.unsigned_abs(), recip) + (1 << 45)) >> 46) as i64;
-            I16F16::from_bits(sat32(if c < 0 { -q } else { q }))
-        });
-        // The product's value is x · 2^(e - 16): |M v| is l · 2^e in Q16.16 bits.
-        let e = d.e;
-        let shifted = |x: u64, s: i32| -> u64 {
-            if s >= 0 {
-                if s >= 32 || x >> (63 - s) != 0 {
-                    u64::MAX
-                } else {
-                    x << s
-                }
-            } else if s <= -64 {
-                0
-            } else {
-                (x + (1 << (-s - 1))) >> -s
-            }
-        };
-        let len_bits = shifted(l, e);
-        let len = I16F16::from_bits(len_bits.min(i32::MAX as u64) as i32);
-        // 1 / |M v| in Q16.16 bits, 2^32 / (l · 2^e): needed only below 1.
-        let inv = if len_bits >= 1 << 16 {
-            I16F16::ZERO
-        } else {
-            I16F16::from_bits(shifted(recip, -30 - e).min(i32::MAX as u64) as i32)
-        };
-        (unit, len, inv)
+        Some(core::array::from_fn(|i| {
+            let step = shr_round(mul_i64(d.m[i], t.to_bits() as i64), s as u32);
+            I16F16::from_bits(sat32(o[i].to_bits() as i64 + step))
+        }))
     }
     fn dir_from(v: [Self; 3]) -> FixedDir {
         FixedDir {
@@ -429,6 +451,9 @@ impl Kernels for I16F16 {
         t_max: Self,
     ) -> Option<(Self, Self, Self)> {
         crate::number::plane::plane_hit(rows, o, d, t_min, t_max)
+    }
+    fn side_roots(o: [Self; 3], d: [Self; 3], cone: bool) -> Option<Option<(Self, Self)>> {
+        Some(crate::number::quadric::side_roots(o, d, cone))
     }
     #[inline]
     fn acc_zero() -> i64 {

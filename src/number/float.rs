@@ -113,6 +113,7 @@ impl Scalar for f32 {
 
 impl Kernels for f32 {
     const SHADOW_SKIPS_OWN_CONVEX: bool = false;
+    const SHADOW_PRECISE_DIR: bool = false;
     fn checker_scale(side: f64) -> Self {
         <f32 as Scalar>::from_f64(1.0 / side)
     }

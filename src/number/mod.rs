@@ -29,6 +29,7 @@ mod fixed;
 mod float;
 pub(crate) mod plane;
 mod q16;
+pub(crate) mod quadric;
 mod scalar;
 pub(crate) mod wide;
 

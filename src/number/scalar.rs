@@ -87,6 +87,11 @@ mod kernels {
         /// outgrows any fixed offset (f32's relative rounding does not; its
         /// images stay as they were).
         const SHADOW_SKIPS_OWN_CONVEX: bool;
+        /// Whether a shadow ray meets bounded shapes along its exact vector to
+        /// the light rather than its rounded unit direction (Q16.16: 2⁻¹⁷ of
+        /// direction, 150 units on, moved a small blocker's shadow edge by a
+        /// pixel). f32 keeps the unit direction; its images stay as they were.
+        const SHADOW_PRECISE_DIR: bool;
 
         /// The checker's scale for a square side `side` (> 0), as
         /// [`Kernels::checker_cell`] takes it: `1 / side` by default. Set-up only.
@@ -152,6 +157,26 @@ mod kernels {
             t_min: Self,
             t_max: Self,
         ) -> Option<(Self, Self, Self)>;
+
+        /// [`Kernels::rows_apply_unit`] for a precise direction marked unit (a
+        /// camera ray's), from its mantissas: `None` where the type keeps the
+        /// rounded unit direction (f32; a direction not marked unit).
+        fn rows_apply_dir(_rows: &[Self::Row; 3], _d: &Self::Dir) -> Option<([Self; 3], Self, Self)> {
+            None
+        }
+        /// The point `o + t D` for a precise direction marked unit, from its
+        /// mantissas (one rounding): `None` as for [`Kernels::rows_apply_dir`].
+        fn along_dir(_o: [Self; 3], _d: &Self::Dir, _t: Self) -> Option<[Self; 3]> {
+            None
+        }
+
+        /// The roots `(t0, t1)` of the cylinder's (`cone` false) or the cone's
+        /// side quadric along the object-space ray `o + t d`, where the type
+        /// computes them exactly (Q16.16: `number::quadric`): `Some(None)` for
+        /// no root. `None`: the shape's generic quadratic (f32, unchanged).
+        fn side_roots(_o: [Self; 3], _d: [Self; 3], _cone: bool) -> Option<Option<(Self, Self)>> {
+            None
+        }
 
         /// The empty accumulator.
         fn acc_zero() -> Self::Acc;

@@ -55,15 +55,19 @@ impl<S: Scalar> Scene<S> {
     /// Whether anything lies on the ray within `t_min < t < t_max`
     /// (stops at the first hit: shadow rays).
     pub fn any_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> bool {
-        self.any_hit_except(o, d, t_min, t_max, None)
+        self.objects
+            .iter()
+            .any(|obj| obj.intersect(o, d, t_min, t_max).is_some())
     }
 
-    /// [`Scene::any_hit`] without object `skip` (if given).
-    fn any_hit_except(&self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, skip: Option<usize>) -> bool {
+    /// Whether anything but object `skip` (if given) lies on the shadow ray
+    /// from `o` to `o + v` (`d` its unit direction, `dist` its length) within
+    /// `t_min < t < dist` (see `Object::blocks`).
+    fn shadowed(&self, o: Vec3<S>, d: Vec3<S>, v: Vec3<S>, dist: S, t_min: S, skip: Option<usize>) -> bool {
         self.objects
             .iter()
             .enumerate()
-            .any(|(i, obj)| Some(i) != skip && obj.intersect(o, d, t_min, t_max).is_some())
+            .any(|(i, obj)| Some(i) != skip && obj.blocks(o, d, v, dist, t_min))
     }
 
     /// The colour seen along the ray `o + t d` (unit `d`), unclamped.
@@ -123,7 +127,7 @@ impl<S: Scalar> Scene<S> {
             if n_dot_l <= S::ZERO {
                 continue;
             }
-            if self.shadows && self.any_hit_except(p_shadow, l, S::HIT_EPSILON, dist, own) {
+            if self.shadows && self.shadowed(p_shadow, l, light.position - p_shadow, dist, S::HIT_EPSILON, own) {
                 continue;
             }
             let r = n * n_dot_l.add(n_dot_l) - l;

@@ -249,10 +249,16 @@ fn cylinder<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<Loc
     let c = o.x.mul(o.x).add(o.z.mul(o.z)).sub(S::ONE);
     let normal = |p: Vec3<S>| Vec3::new(p.x, S::ZERO, p.z);
     let mut best = None;
-    if !negligible(a) {
-        if let Some((t0, t1)) = roots(a, b, c) {
-            best = side_hit(o, d, t0, t_min, t_max, normal).or_else(|| side_hit(o, d, t1, t_min, t_max, normal));
+    // Q16.16's exact roots where it has them; else the quadratic in S.
+    let side = S::side_roots(o.to_array(), d.to_array(), false).unwrap_or_else(|| {
+        if negligible(a) {
+            None
+        } else {
+            roots(a, b, c)
         }
+    });
+    if let Some((t0, t1)) = side {
+        best = side_hit(o, d, t0, t_min, t_max, normal).or_else(|| side_hit(o, d, t1, t_min, t_max, normal));
     }
     best = nearer(best, cap(o, d, S::ONE, t_min, t_max));
     nearer(best, cap(o, d, S::ONE.neg(), t_min, t_max))
@@ -275,7 +281,15 @@ fn cone<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHi
         }
     };
     let mut best = None;
-    if negligible(a) {
+    if let Some(side) = S::side_roots(o.to_array(), d.to_array(), true) {
+        // Q16.16: exact coefficients and stable roots (a near-apex hit moved by 1 % of the size).
+        if let Some((t0, t1)) = side {
+            best = nearer(
+                side_hit(o, d, t0, t_min, t_max, normal),
+                side_hit(o, d, t1, t_min, t_max, normal),
+            );
+        }
+    } else if negligible(a) {
         // Ray parallel to a line of the cone: one root, −c / 2b.
         if b != S::ZERO {
             let t = c.neg().div(b.add(b));

@@ -20,8 +20,8 @@ use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{OriginDimensions, Size};
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use embedded_graphics_core::Pixel;
-use lensray::CameraSample;
 use lensray::progressive::{self, Pass, Schedule};
+use lensray::CameraSample;
 use lensray::{Renderer, Scalar, Scene, I16F16};
 
 /// Q16.16, the fixed-point renderer.
