@@ -453,7 +453,10 @@ impl Kernels for I16F16 {
         crate::number::plane::plane_hit(rows, o, d, t_min, t_max)
     }
     fn side_roots(o: [Self; 3], d: [Self; 3], cone: bool) -> Option<Option<(Self, Self)>> {
-        Some(crate::number::quadric::side_roots(o, d, cone))
+        // The exact sums fit an i64 for object-space values below 4096; only
+        // nonsense inputs (a corrupt baked scene) go beyond: the generic quadratic.
+        let small = |v: [Self; 3]| v.iter().all(|x| x.to_bits().unsigned_abs() < 1 << 28);
+        (small(o) && small(d)).then(|| crate::number::quadric::side_roots(o, d, cone))
     }
     #[inline]
     fn acc_zero() -> i64 {

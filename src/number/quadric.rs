@@ -104,6 +104,30 @@ mod tests {
     /// cone near its apex, nearly along its lines, and through the cylinder:
     /// each root within 2⁻¹⁵ (the Q16.16 rounding of the result, and slack).
     #[test]
+    fn any_input_gives_an_answer_without_overflow() {
+        // Corrupt baked scenes reach here with any bits: no overflow (a panic in
+        // a debug build), at the exact path's bound and beyond it.
+        use crate::number::scalar::Kernels;
+        let edge = (1 << 28) - 1;
+        let values = [0, 1, -1, 1 << 16, edge, -edge, 1 << 28, i32::MAX, i32::MIN];
+        for &a in &values {
+            for &b in &values {
+                for cone in [false, true] {
+                    let (o, d) = (
+                        [a, b, a].map(I16F16::from_bits),
+                        [b, a, b.wrapping_neg()].map(I16F16::from_bits),
+                    );
+                    let exact = <I16F16 as Kernels>::side_roots(o, d, cone);
+                    assert_eq!(
+                        exact.is_some(),
+                        a.unsigned_abs() < 1 << 28 && b.unsigned_abs() < 1 << 28
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
     fn side_roots_match_f64() {
         let mut seed = 0x1234_5678u32;
         let mut rnd = || {
