@@ -154,8 +154,9 @@ pub(crate) fn plane_hit(
     let oz = rows[2].apply(o, true).to_bits() as i64;
     // t = −oz / (row_z · D): Q16.16 bits −oz · 2^(30 + shift) / dz.
     // A hit beyond Q16.16's range is drawn at its edge, not dropped: f32
-    // draws it, and only the direction of a point that far matters.
-    let t = ratio(-oz, dz, 30 + rows[2].shift).min(i32::MAX as i64 - 1);
+    // draws it, and only the direction of a point that far matters (its
+    // texture: see [`far_checker`]).
+    let t = ratio(-oz, dz, 30 + rows[2].shift).min(FAR_T);
     if t <= t_min.to_bits() as i64 || t >= t_max.to_bits() as i64 {
         return None;
     }
@@ -165,4 +166,166 @@ pub(crate) fn plane_hit(
         q16(start + scaled(t, dot(&rows[i], &d.m), 30 + rows[i].shift))
     };
     Some((q16(t), along(0), along(1)))
+}
+
+/// The distance (Q16.16 bits) [`plane_hit`] gives a hit beyond the range.
+pub(crate) const FAR_T: i64 = i32::MAX as i64 - 1;
+
+/// For a hit of [`plane_hit`] at [`FAR_T`] (beyond the range) on a plane
+/// checkered with `side` and `scale` (as `Kernels::checker_cell` takes
+/// them): object-space x and y with the checker parity of the true hit. At
+/// the clamped distance the texture took the square 32767 along the ray,
+/// unrelated to the true one (seed 3086, lens: half the samples on a far
+/// plane took a random square where f32 took the right one 84 % of the
+/// time). The coordinates come from the exact ratio without t, to 30 bits,
+/// each as the middle of a square of its true cell's parity (a plane's x and
+/// y serve only its texture). Rare: kept out of line.
+#[inline(never)]
+pub(crate) fn far_checker(
+    rows: &[FixedRow; 3],
+    o: [I16F16; 3],
+    d: FixedDir,
+    side: I16F16,
+    scale: I16F16,
+) -> Option<(I16F16, I16F16)> {
+    let d = if d.unit && d.e == -30 { d } else { to_unit(d)? };
+    let dz = dot(&rows[2], &d.m);
+    let oz = rows[2].apply(o, true).to_bits() as i64;
+    let coord = |i: usize| {
+        let start = rows[i].apply(o, true).to_bits() as i64;
+        let e = rows[2].shift as i32 - rows[i].shift as i32;
+        far_coord(
+            start,
+            -oz,
+            dot(&rows[i], &d.m),
+            dz,
+            e,
+            side.to_bits() as i64,
+            scale.to_bits() as i64,
+        )
+    };
+    (dz != 0 && side.to_bits() > 0).then(|| (coord(0), coord(1)))
+}
+
+/// Bits of `|x|` past which a far hit's checker cell is not worth computing:
+/// 2^30 object units, where f32's own rounding is whole squares.
+const FAR_LIMIT_BITS: u32 = 46;
+
+/// The object-space coordinate `start + n · dot / dz · 2^e` (Q16.16 bits, for
+/// `dz != 0`) as the middle of a square (side `side`, scale `scale`, both
+/// Q16.16 bits, side > 0) of its cell's parity; saturated past [`FAR_LIMIT_BITS`].
+fn far_coord(start: i64, n: i64, dot: i64, dz: i64, e: i32, side: i64, scale: i64) -> I16F16 {
+    let (dot, kd) = cut31(dot);
+    let (dz, kz) = cut31(dz);
+    // |n| < 2^32 and |dot| < 2^31: the product, then shifted up to 62 bits for
+    // a quotient of at least 30 bits.
+    let num = mul_i64(n, dot);
+    let b = bits(num.unsigned_abs());
+    let up = 62u32.saturating_sub(b);
+    let q = crate::number::q16::div_round_i64(num << up, dz);
+    let e = e + kd as i32 - kz as i32 - up as i32;
+    let off = if num == 0 {
+        0
+    } else if e >= 0 {
+        if bits(q.unsigned_abs()) + e as u32 >= FAR_LIMIT_BITS {
+            return q16(start + q.signum() * (1 << FAR_LIMIT_BITS));
+        }
+        q << e
+    } else if -e >= 63 {
+        0
+    } else {
+        shr_round(q, (-e) as u32)
+    };
+    let x = start + off;
+    if x.unsigned_abs() >> FAR_LIMIT_BITS != 0 {
+        return q16(x);
+    }
+    // floor(x m / 2^(29 + b)) as `Kernels::checker_cell`, for |x| < 2^46: x's
+    // top and low 16 bits times the 30-bit mantissa, each within an i64.
+    let sb = 64 - side.leading_zeros();
+    let (hi, lo) = (x >> 16, x & 0xFFFF);
+    let cell = (hi * scale + ((lo * scale) >> 16)) >> (13 + sb);
+    // The middle of square 0 or of square −1: in range, and its cell beyond doubt.
+    let half = side / 2;
+    I16F16::from_bits(if cell & 1 == 0 { half } else { -(side - half) } as i32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::transform::Mat34;
+    use crate::number::{Kernels, Scalar};
+
+    /// A checkered plane's hits beyond Q16.16's range keep their true square:
+    /// the parity of [`plane_hit`]'s (x, y) under `Kernels::checker_cell`
+    /// against the parity of the same hit computed in f64 from the kernel's
+    /// own inputs (rows, rounded origin terms, direction mantissas). Clamping
+    /// the distance at 32767 gives the square there: right half the time.
+    #[test]
+    fn far_hits_keep_their_checker_parity() {
+        let mut seed = 0x2545_F491u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f64 / u32::MAX as f64
+        };
+        let (mut far, mut right) = (0, 0);
+        for _ in 0..4000 {
+            // A floor at height h, turned about y and scaled in its own plane.
+            let (h, turn, s) = (next() * 100.0 - 50.0, next() * 360.0, 0.3 + next() * 4.0);
+            let to_world = Mat34::translate([0.0, h, 0.0])
+                .after(&Mat34::rotate(1, turn))
+                .after(&Mat34::rotate(0, -90.0))
+                .after(&Mat34::scale([s, s, 1.0]));
+            let inv = to_world.inverse().unwrap();
+            let rows = inv.0.map(<I16F16 as Kernels>::row_from_f64);
+            let side = I16F16::from_f64(0.3 + next() * 9.0);
+            let scale = <I16F16 as Kernels>::checker_scale(side.to_f64());
+            let o = [0, 1, 2].map(|_| I16F16::from_f64(next() * 200.0 - 100.0));
+            // Towards the floor at a distance of 40,000 to 400,000.
+            let reach = 40_000.0 * libm::exp(next() * libm::log(10.0));
+            let dy = h - o[1].to_f64();
+            let phi = next() * core::f64::consts::TAU;
+            let c = libm::sqrt(1.0 - (dy / reach) * (dy / reach));
+            let unit = [c * libm::cos(phi), dy / reach, c * libm::sin(phi)];
+            let m = unit.map(|x| libm::round(x * (1u64 << 30) as f64) as i64);
+            let d = FixedDir { m, e: -30, unit: true };
+            let Some((t, x, y)) = plane_hit(&rows, o, d, I16F16::from_bits(64), I16F16::MAX) else {
+                continue;
+            };
+            let (x, y) = if t.to_bits() as i64 == FAR_T {
+                far_checker(&rows, o, d, side, scale).unwrap()
+            } else {
+                (x, y)
+            };
+            // The same hit in f64 from the kernel's inputs: the row products
+            // exactly, the origin terms as the kernel rounds them.
+            let row = |r: &FixedRow| {
+                let dot: f64 = (0..3).map(|k| r.m[k] as f64 * m[k] as f64).sum();
+                (r.apply(o, true).to_f64(), dot / libm::exp2(30.0 + r.shift as f64))
+            };
+            let (oz, dz) = row(&rows[2]);
+            let t = -oz / dz;
+            let coord = |r: &FixedRow| {
+                let (start, dot) = row(r);
+                start + t * dot
+            };
+            let (fx, fy) = (coord(&rows[0]), coord(&rows[1]));
+            if t < 32768.0 || fx.abs().max(fy.abs()) > (1u64 << 29) as f64 {
+                continue;
+            }
+            // Kernels::checker_cell on the exact value: floor(x 2^16 m / 2^(29 + b)).
+            let b = 32 - side.to_bits().leading_zeros();
+            let cell = |v: f64| libm::floor(v * 65536.0 * scale.to_bits() as f64 / libm::exp2((29 + b) as f64)) as i64;
+            let want = (cell(fx) + cell(fy)) & 1;
+            let cells = |v: I16F16| <I16F16 as Kernels>::checker_cell(v, side, scale);
+            let got = (cells(x) + cells(y)) & 1;
+            far += 1;
+            right += (got == want) as u32;
+        }
+        // Borders within 2^-30 of a hit's size may go either way: a few.
+        assert!(right as f64 >= 0.995 * far as f64, "{right} of {far}");
+        assert!(far > 1000, "{far}");
+    }
 }

@@ -158,6 +158,22 @@ mod kernels {
             t_max: Self,
         ) -> Option<(Self, Self, Self)>;
 
+        /// For a hit of [`Kernels::plane_hit`] at distance `t` on a plane
+        /// checkered with `side` and `scale` (as [`Kernels::checker_cell`] takes
+        /// them): where the hit lies beyond the type's range, object-space x and
+        /// y of the true hit's checker parity (Q16.16: `number::plane::far_checker`).
+        /// `None`: the plane's own x and y stand (f32, unchanged).
+        fn plane_far_checker(
+            _rows: &[Self::Row; 3],
+            _o: [Self; 3],
+            _d: Self::Dir,
+            _t: Self,
+            _side: Self,
+            _scale: Self,
+        ) -> Option<(Self, Self)> {
+            None
+        }
+
         /// [`Kernels::rows_apply_unit`] for a precise direction marked unit (a
         /// camera ray's), from its mantissas: `None` where the type keeps the
         /// rounded unit direction (f32; a direction not marked unit).
