@@ -185,11 +185,11 @@ impl<S: Scalar> Affine<S> {
         S::plane_hit(&self.rows, o.to_array(), d, t_min, t_max)
     }
 
-    /// Object-space x and y of the true checker parity for a plane hit at `t`
+    /// Object-space x and y of the true checker parity for a plane hit
     /// beyond the type's range (see `Kernels::plane_far_checker`).
     #[inline]
-    pub fn plane_far_checker(&self, o: Vec3<S>, d: S::Dir, t: S, side: S, scale: S) -> Option<(S, S)> {
-        S::plane_far_checker(&self.rows, o.to_array(), d, t, side, scale)
+    pub fn plane_far_checker(&self, o: Vec3<S>, d: S::Dir, side: S, scale: S) -> Option<(S, S)> {
+        S::plane_far_checker(&self.rows, o.to_array(), d, side, scale)
     }
 
     /// One coordinate of a transformed point (`i` in 0..3).

@@ -452,18 +452,15 @@ impl Kernels for I16F16 {
     ) -> Option<(Self, Self, Self)> {
         crate::number::plane::plane_hit(rows, o, d, t_min, t_max)
     }
+    const PLANE_FAR_T: Self = I16F16::from_bits(crate::number::plane::FAR_T as i32);
     #[inline]
     fn plane_far_checker(
         rows: &[FixedRow; 3],
         o: [Self; 3],
         d: FixedDir,
-        t: Self,
         side: Self,
         scale: Self,
     ) -> Option<(Self, Self)> {
-        if t.to_bits() as i64 != crate::number::plane::FAR_T {
-            return None;
-        }
         crate::number::plane::far_checker(rows, o, d, side, scale)
     }
     fn side_roots(o: [Self; 3], d: [Self; 3], cone: bool) -> Option<Option<(Self, Self)>> {

@@ -114,6 +114,7 @@ impl Scalar for f32 {
 impl Kernels for f32 {
     const SHADOW_SKIPS_OWN_CONVEX: bool = false;
     const SHADOW_PRECISE_DIR: bool = false;
+    const PLANE_FAR_T: Self = f32::INFINITY;
     fn checker_scale(side: f64) -> Self {
         <f32 as Scalar>::from_f64(1.0 / side)
     }

@@ -28,15 +28,23 @@ impl FixedRow {
     /// `Kernels::row_apply` for [`I16F16`], which the plane also calls.
     #[inline]
     pub(crate) fn apply(&self, v: [I16F16; 3], affine: bool) -> I16F16 {
+        let s = self.exact(v, affine);
+        let q = if self.shift == 0 { s } else { shr_round(s, self.shift) };
+        I16F16::from_bits(sat32(q))
+    }
+
+    /// `row · v` (plus the translation when `affine`) exactly, at scale `2^-(16 + shift)`.
+    #[inline]
+    pub(crate) fn exact(&self, v: [I16F16; 3], affine: bool) -> i64 {
         let row = self;
         // Each product <= 2^61 and t <= 2^60: the sum stays below 2^63: no overflow.
-        let mut s =
+        let s =
             mul_i32(row.m[0], v[0].to_bits()) + mul_i32(row.m[1], v[1].to_bits()) + mul_i32(row.m[2], v[2].to_bits());
         if affine {
-            s += row.t;
+            s + row.t
+        } else {
+            s
         }
-        let q = if row.shift == 0 { s } else { shr_round(s, row.shift) };
-        I16F16::from_bits(sat32(q))
     }
 }
 

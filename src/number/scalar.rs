@@ -158,16 +158,17 @@ mod kernels {
             t_max: Self,
         ) -> Option<(Self, Self, Self)>;
 
-        /// For a hit of [`Kernels::plane_hit`] at distance `t` on a plane
-        /// checkered with `side` and `scale` (as [`Kernels::checker_cell`] takes
-        /// them): where the hit lies beyond the type's range, object-space x and
-        /// y of the true hit's checker parity (Q16.16: `number::plane::far_checker`).
-        /// `None`: the plane's own x and y stand (f32, unchanged).
+        /// The distance [`Kernels::plane_hit`] gives a hit beyond the type's
+        /// range (Q16.16: just below 32768; f32: infinity, which no hit has).
+        const PLANE_FAR_T: Self;
+        /// For a hit of [`Kernels::plane_hit`] at [`Kernels::PLANE_FAR_T`] on a
+        /// plane checkered with `side` and `scale` (as [`Kernels::checker_cell`]
+        /// takes them): object-space x and y of the true hit's checker parity
+        /// (Q16.16: `number::plane::far_checker`). `None`: the plane's own stand.
         fn plane_far_checker(
             _rows: &[Self::Row; 3],
             _o: [Self; 3],
             _d: Self::Dir,
-            _t: Self,
             _side: Self,
             _scale: Self,
         ) -> Option<(Self, Self)> {

@@ -248,10 +248,13 @@ impl<S: Scalar> Object<S> {
             // direction (a grazing hit 100 away moves by 100² times its error).
             let (t, x, y) = self.to_object.plane_hit(o, precise, t_min, t_max)?;
             // Beyond Q16.16's range, the true hit's square rather than the one at the clamp.
-            let (x, y) = self
-                .to_object
-                .plane_far_checker(o, precise, t, self.texture, self.inv_texture)
-                .unwrap_or((x, y));
+            let (x, y) = if t == S::PLANE_FAR_T {
+                self.to_object
+                    .plane_far_checker(o, precise, self.texture, self.inv_texture)
+                    .unwrap_or((x, y))
+            } else {
+                (x, y)
+            };
             let local = LocalHit {
                 t,
                 p: Vec3::new(x, y, S::ZERO),
