@@ -124,7 +124,10 @@ fn main() {
                     ((hq.local.p.x.to_num::<f64>() - ox).powi(2) + (hq.local.p.y.to_num::<f64>() - oy).powi(2)).sqrt();
                 let df = ((hf.local.p.x as f64 - ox).powi(2) + (hf.local.p.y as f64 - oy).powi(2)).sqrt();
                 let dqo = ((qox - ox).powi(2) + (qoy - oy).powi(2)).sqrt();
-                q_err = q_err.max(dq);
+                // Beyond the range Q16.16's x and y are a square's middle, not the point.
+                if !far {
+                    q_err = q_err.max(dq);
+                }
                 f_err = f_err.max(df);
                 qo_err = qo_err.max(dqo);
                 if std::env::var("V").is_ok() {

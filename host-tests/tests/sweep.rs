@@ -9,7 +9,7 @@ const MIN_PSNR: f64 = 40.0;
 const MIN_WITHIN2: f64 = 0.995;
 /// Largest row or column mean error in levels. The issue's floor is 2; a
 /// single pixel of full contrast at an object's silhouette is 2.1 in a
-/// 120-pixel column (seeds 59 and 3162; see docs/accuracy.md, "What remains").
+/// 120-pixel column (seed 59; see docs/accuracy.md, "What remains").
 const MAX_LINE_160: f64 = 2.15;
 
 /// PSNR floor at 64x48: one pixel of full contrast in one channel alone is
@@ -71,18 +71,34 @@ fn under(files: &[std::path::PathBuf], psnr: f64, within2: f64, line: f64) -> Ve
 #[test]
 fn every_regression_scene_meets_the_floors() {
     let files = corpus("sweep-regressions");
-    assert!(files.len() >= 39, "the corpus lost scenes");
+    assert!(files.len() >= 41, "the corpus lost scenes");
     let bad = under(&files, MIN_PSNR, MIN_WITHIN2, MAX_LINE_160);
     assert!(bad.is_empty(), "under the floors: {bad:?}");
 }
 
 /// Scenes still under a floor after the fixes (docs/accuracy.md, "What
-/// remains"): held where they are, so that they cannot get worse unseen.
+/// remains"): each held where it is (PSNR, share within 2 levels, worst line,
+/// measured when filed, with a small margin), so that none can get worse unseen.
 #[test]
 fn open_regression_scenes_get_no_worse() {
+    const HELD: [(&str, f64, f64, f64); 6] = [
+        // f32 is the outlier against f64 on this far checker row (docs/accuracy.md).
+        ("seed-2000-lens", 61.0, 0.9935, 1.45),
+        ("seed-3144-pinhole", 50.5, 0.998, 3.7),
+        ("seed-5010-pinhole", 44.0, 0.999, 2.15),
+        ("seed-5014-pinhole", 40.5, 0.999, 2.45),
+        ("seed-5116-pinhole", 47.0, 0.999, 2.2),
+        ("seed-5163-pinhole", 45.0, 0.999, 2.1),
+    ];
     let files = corpus("sweep-regressions/open");
-    assert!(files.len() >= 3, "the corpus lost scenes");
-    // The worst of them now: 50.9 dB, 99.42 % within 2, a column 3.65 levels off.
-    let bad = under(&files, 50.5, 0.994, 3.7);
+    assert_eq!(files.len(), HELD.len(), "a file without its limits, or a lost one");
+    let bad: Vec<String> = files
+        .iter()
+        .flat_map(|f| {
+            let stem = f.file_stem().unwrap().to_str().unwrap();
+            let &(_, psnr, within2, line) = HELD.iter().find(|h| h.0 == stem).expect("limits for every open scene");
+            under(std::slice::from_ref(f), psnr, within2, line)
+        })
+        .collect();
     assert!(bad.is_empty(), "worse than when filed: {bad:?}");
 }

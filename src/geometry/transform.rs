@@ -179,17 +179,11 @@ impl<S: Scalar> Affine<S> {
     }
 
     /// Where the world ray `o + t d` meets this object's plane z = 0 (see
-    /// `Kernels::plane_hit`), for `t_min < t < t_max`.
+    /// `Kernels::plane_hit`), for `t_min < t < t_max`, with its texture's
+    /// (side, scale) for hits beyond the range.
     #[inline]
-    pub fn plane_hit(&self, o: Vec3<S>, d: S::Dir, t_min: S, t_max: S) -> Option<(S, S, S)> {
-        S::plane_hit(&self.rows, o.to_array(), d, t_min, t_max)
-    }
-
-    /// Object-space x and y of the true checker parity for a plane hit
-    /// beyond the type's range (see `Kernels::plane_far_checker`).
-    #[inline]
-    pub fn plane_far_checker(&self, o: Vec3<S>, d: S::Dir, side: S, scale: S) -> Option<(S, S)> {
-        S::plane_far_checker(&self.rows, o.to_array(), d, side, scale)
+    pub fn plane_hit(&self, o: Vec3<S>, d: S::Dir, t_min: S, t_max: S, checker: (S, S)) -> Option<(S, S, S)> {
+        S::plane_hit(&self.rows, o.to_array(), d, t_min, t_max, checker)
     }
 
     /// One coordinate of a transformed point (`i` in 0..3).

@@ -449,19 +449,9 @@ impl Kernels for I16F16 {
         d: FixedDir,
         t_min: Self,
         t_max: Self,
+        checker: (Self, Self),
     ) -> Option<(Self, Self, Self)> {
-        crate::number::plane::plane_hit(rows, o, d, t_min, t_max)
-    }
-    const PLANE_FAR_T: Self = I16F16::from_bits(crate::number::plane::FAR_T as i32);
-    #[inline]
-    fn plane_far_checker(
-        rows: &[FixedRow; 3],
-        o: [Self; 3],
-        d: FixedDir,
-        side: Self,
-        scale: Self,
-    ) -> Option<(Self, Self)> {
-        crate::number::plane::far_checker(rows, o, d, side, scale)
+        crate::number::plane::plane_hit(rows, o, d, t_min, t_max, checker)
     }
     fn side_roots(o: [Self; 3], d: [Self; 3], cone: bool) -> Option<Option<(Self, Self)>> {
         // The exact sums fit an i64 for object-space values below 4096; only

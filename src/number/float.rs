@@ -114,7 +114,6 @@ impl Scalar for f32 {
 impl Kernels for f32 {
     const SHADOW_SKIPS_OWN_CONVEX: bool = false;
     const SHADOW_PRECISE_DIR: bool = false;
-    const PLANE_FAR_T: Self = f32::INFINITY;
     fn checker_scale(side: f64) -> Self {
         <f32 as Scalar>::from_f64(1.0 / side)
     }
@@ -189,7 +188,9 @@ impl Kernels for f32 {
         d: [f32; 3],
         t_min: Self,
         t_max: Self,
+        _checker: (Self, Self),
     ) -> Option<(Self, Self, Self)> {
+        // f32 holds far coordinates itself (its images stay as they were).
         plane_hit_f32(rows, o, d, t_min, t_max)
     }
     #[inline]

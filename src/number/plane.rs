@@ -9,7 +9,7 @@
 //! in an i64; grazing hits far away keep their precision.
 
 use crate::number::q16::{shr_round, FixedDir, FixedRow};
-use crate::number::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u64, Recip};
+use crate::number::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u64, sar64};
 use fixed::types::I16F16;
 
 /// Bits needed for `x` (0 for 0).
@@ -138,12 +138,16 @@ pub(crate) fn to_unit(d: FixedDir) -> Option<FixedDir> {
 /// Where the world ray `o + t D` meets the object-space plane z = 0, for
 /// `t_min < t < t_max`: `(t, x, y)`, t the world distance along D (taken as a
 /// unit vector; see [`to_unit`]) and (x, y, 0) the object-space point.
+/// `checker` is the plane's (side, scale) as `Kernels::checker_cell` takes
+/// them (side 0: none): for a hit beyond the range, x and y come back as a
+/// point of the true hit's checker parity (see [`far_xy`]).
 pub(crate) fn plane_hit(
     rows: &[FixedRow; 3],
     o: [I16F16; 3],
     d: FixedDir,
     t_min: I16F16,
     t_max: I16F16,
+    checker: (I16F16, I16F16),
 ) -> Option<(I16F16, I16F16, I16F16)> {
     let d = if d.unit && d.e == -30 { d } else { to_unit(d)? };
     // How fast the object's z changes per unit of world distance.
@@ -155,15 +159,23 @@ pub(crate) fn plane_hit(
     // scale 2^-(16 + shift), cut to 32 bits (2^-32 relative): oz rounded to
     // Q16.16 moved a grazing hit by 2^-17 / (row_z · D), 1e-3 at 33 (seed
     // 3162: the seam of two planes a pixel off).
-    let (oz, k) = origin_z(rows, o);
+    let z = rows[2].exact(o, true);
+    let k = bits(z.unsigned_abs()).saturating_sub(32);
+    let oz = if k == 0 { z } else { shr_round(z, k) };
     // A hit beyond Q16.16's range is drawn at its edge, not dropped: f32
-    // draws it, and only the direction of a point that far matters (its
-    // texture: see [`far_checker`]).
-    let t = ratio(-oz, dz, 30 + k).min(FAR_T);
+    // draws it, and only the direction of a point that far matters (and its
+    // texture: see [`far_xy`]).
+    let t = ratio(-oz, dz, 30 + k);
+    let far = t > FAR_T;
+    let t = t.min(FAR_T);
     if t <= t_min.to_bits() as i64 || t >= t_max.to_bits() as i64 {
         return None;
     }
-    // Object-space x and y: o + t (row · D), in range only.
+    if far {
+        let (x, y) = far_xy(rows, o, &d, (oz, k, dz), checker);
+        return Some((q16(t), x, y));
+    }
+    // Object-space x and y: o + t (row · D).
     let along = |i: usize| {
         let start = rows[i].apply(o, true).to_bits() as i64;
         q16(start + scaled(t, dot(&rows[i], &d.m), 30 + rows[i].shift))
@@ -171,102 +183,52 @@ pub(crate) fn plane_hit(
     Some((q16(t), along(0), along(1)))
 }
 
-/// The object-space z of the world point `o`, exactly, as `(z', k)` with
-/// `z = z' 2^(k - 16 - shift)` and `|z'| <= 2^32`.
-#[inline]
-fn origin_z(rows: &[FixedRow; 3], o: [I16F16; 3]) -> (i64, u32) {
-    let z = rows[2].exact(o, true);
-    let k = bits(z.unsigned_abs()).saturating_sub(32);
-    if k == 0 {
-        (z, 0)
-    } else {
-        (shr_round(z, k), k)
-    }
-}
-
 /// The distance (Q16.16 bits) [`plane_hit`] gives a hit beyond the range.
 pub(crate) const FAR_T: i64 = i32::MAX as i64 - 1;
 
-/// For a hit of [`plane_hit`] at [`FAR_T`] (beyond the range) on a plane
-/// checkered with `side` and `scale` (as `Kernels::checker_cell` takes
-/// them): object-space x and y with the checker parity of the true hit. At
-/// the clamped distance the texture took the square 32767 along the ray,
-/// unrelated to the true one (seed 3086, lens: half the samples on a far
-/// plane took a random square where f32 took the right one 84 % of the
-/// time). The coordinates come from the exact ratio without t, to 30 bits,
-/// each as the middle of a square of its true cell's parity (a plane's x and
-/// y serve only its texture). Rare: kept out of line.
+/// Object-space x and y of a plane hit beyond the range (`t = −oz 2^(30 + k)
+/// / dz` Q16.16 bits), for the plane's checker (side, scale): each the middle
+/// of a square of the true hit's checker parity. At the clamped distance the texture took the square 32767
+/// along the ray, unrelated to the true one (seed 3086, lens: half the
+/// samples on a far plane took a random square, where f32 took the right
+/// one 84 % of the time); a plane's x and y serve only its texture. Without
+/// a texture, or where 31 bits cannot tell the square, 0.
 #[inline(never)]
-pub(crate) fn far_checker(
+fn far_xy(
     rows: &[FixedRow; 3],
     o: [I16F16; 3],
-    d: FixedDir,
-    side: I16F16,
-    scale: I16F16,
-) -> Option<(I16F16, I16F16)> {
-    let d = if d.unit && d.e == -30 { d } else { to_unit(d)? };
-    let dz = dot(&rows[2], &d.m);
-    let (oz, k) = origin_z(rows, o);
-    let coord = |i: usize| {
-        let start = rows[i].apply(o, true).to_bits() as i64;
-        // x − start = t (row_x · D) / 2^(30 + shift_x), t = −oz 2^(30 + k) / dz.
-        let e = k as i32 - rows[i].shift as i32;
-        far_coord(
-            start,
-            -oz,
-            dot(&rows[i], &d.m),
-            dz,
-            e,
-            side.to_bits() as i64,
-            scale.to_bits() as i64,
-        )
-    };
-    (dz != 0 && side.to_bits() > 0).then(|| (coord(0), coord(1)))
+    d: &FixedDir,
+    (oz, k, dz): (i64, u32, i64),
+    checker: (I16F16, I16F16),
+) -> (I16F16, I16F16) {
+    // t in units of 2^g bits, g so that it fits 31 bits again (30 significant).
+    let g = (bits(oz.unsigned_abs()) + k + 1)
+        .saturating_sub(bits(dz.unsigned_abs()))
+        .min(30 + k);
+    let t = ratio(-oz, dz, 30 + k - g);
+    let along = |i: usize| far_coord(&rows[i], o, d, t, g, checker);
+    (along(0), along(1))
 }
 
-/// Bits of `|x|` past which a far hit's checker cell is not worth computing:
-/// 2^30 object units, where f32's own rounding is whole squares.
-const FAR_LIMIT_BITS: u32 = 46;
-
-/// The object-space coordinate `start + n · dot / dz · 2^e` (Q16.16 bits, for
-/// `dz != 0`) as the middle of a square (side `side`, scale `scale`, both
-/// Q16.16 bits, side > 0) of its cell's parity; saturated past [`FAR_LIMIT_BITS`].
+/// [`far_xy`]'s one coordinate `row · o + t (row · D)`, `t` in units of 2^g
+/// Q16.16 bits. Out of line: one copy of its wide products.
 #[inline(never)]
-fn far_coord(start: i64, n: i64, dot: i64, dz: i64, e: i32, side: i64, scale: i64) -> I16F16 {
-    let (dot, kd) = cut31(dot);
-    let (dz, kz) = cut31(dz);
-    // |n| < 2^32 and |dot| < 2^31: the product, then shifted up to 62 bits for
-    // a quotient of at least 30 bits.
-    let num = mul_i64(n, dot);
-    let b = bits(num.unsigned_abs());
-    let up = 62u32.saturating_sub(b);
-    // dz below 2^32 after the cut: the reciprocal division (the M0's fast one).
-    let q = crate::number::q16::div_round_i64_by(num << up, &Recip::new(dz.unsigned_abs() as u32), dz < 0);
-    let e = e + kd as i32 - kz as i32 - up as i32;
-    let off = if num == 0 {
-        0
-    } else if e >= 0 {
-        if bits(q.unsigned_abs()) + e as u32 >= FAR_LIMIT_BITS {
-            return q16(start + q.signum() * (1 << FAR_LIMIT_BITS));
-        }
-        q << e
-    } else if -e >= 63 {
-        0
-    } else {
-        shr_round(q, (-e) as u32)
-    };
-    let x = start + off;
-    if x.unsigned_abs() >> FAR_LIMIT_BITS != 0 {
-        return q16(x);
+fn far_coord(row: &FixedRow, o: [I16F16; 3], d: &FixedDir, t: i64, g: u32, checker: (I16F16, I16F16)) -> I16F16 {
+    let (side, m) = (checker.0.to_bits(), checker.1.to_bits());
+    // Bit length of the side's bits (> 0 with a texture), as checker_cell takes it.
+    let sb = 32 - (side as u32).leading_zeros();
+    let (dot, shift) = (dot(row, &d.m), 30 + row.shift);
+    // In units of 2^(g + up) bits, up for a row that stretches (|row · D| up to 2^up).
+    let gi = g + (bits(dot.unsigned_abs()) + 1).saturating_sub(shift);
+    let x = sar64(row.apply(o, true).to_bits() as i64, gi) + scaled(sar64(t, gi - g), dot, shift);
+    if sb == 0 || gi > 29 + sb || x != x as i32 as i64 {
+        return I16F16::ZERO;
     }
-    // floor(x m / 2^(29 + b)) as `Kernels::checker_cell`, for |x| < 2^46: x's
-    // top and low 16 bits times the 30-bit mantissa, each within an i64.
-    let sb = 64 - side.leading_zeros();
-    let (hi, lo) = (x >> 16, x & 0xFFFF);
-    let cell = (hi * scale + ((lo * scale) >> 16)) >> (13 + sb);
-    // The middle of square 0 or of square −1: in range, and its cell beyond doubt.
+    // Kernels::checker_cell of x 2^gi: floor(x 2^gi m / 2^(29 + b)).
+    let cell = mul_i32(x as i32, m) >> (29 + sb - gi);
+    // The middle of square 0 or of square −1: in range, its cell beyond doubt.
     let half = side / 2;
-    I16F16::from_bits(if cell & 1 == 0 { half } else { -(side - half) } as i32)
+    I16F16::from_bits(if cell & 1 == 0 { half } else { half - side })
 }
 
 #[cfg(test)]
@@ -310,13 +272,8 @@ mod tests {
             let unit = [c * libm::cos(phi), dy / reach, c * libm::sin(phi)];
             let m = unit.map(|x| libm::round(x * (1u64 << 30) as f64) as i64);
             let d = FixedDir { m, e: -30, unit: true };
-            let Some((t, x, y)) = plane_hit(&rows, o, d, I16F16::from_bits(64), I16F16::MAX) else {
+            let Some((_, x, y)) = plane_hit(&rows, o, d, I16F16::from_bits(64), I16F16::MAX, (side, scale)) else {
                 continue;
-            };
-            let (x, y) = if t.to_bits() as i64 == FAR_T {
-                far_checker(&rows, o, d, side, scale).unwrap()
-            } else {
-                (x, y)
             };
             // The same hit in f64 from the kernel's inputs: the row products
             // and the origin's z exactly, its x and y as the kernel rounds them.
@@ -385,7 +342,15 @@ mod tests {
             if !(0.01..30000.0).contains(&want) {
                 continue;
             }
-            let (t, _, _) = plane_hit(&rows, o, d, I16F16::from_bits(64), I16F16::MAX).expect("a hit");
+            let (t, _, _) = plane_hit(
+                &rows,
+                o,
+                d,
+                I16F16::from_bits(64),
+                I16F16::MAX,
+                (I16F16::ZERO, I16F16::ZERO),
+            )
+            .expect("a hit");
             let err = (t.to_f64() - want).abs();
             assert!(
                 err <= 1.0 / 65536.0 + want / (1u64 << 28) as f64,

@@ -150,30 +150,18 @@ mod kernels {
         /// object whose world → object matrix has these rows, for `t_min < t < t_max`:
         /// `(t, x, y)`, t the world distance in units of |d| (a unit direction
         /// marked so needs no square root) and (x, y, 0) the object-space point.
+        /// `checker` is the plane's texture (side, scale) as
+        /// [`Kernels::checker_cell`] takes them (side 0: none): for a hit beyond
+        /// the type's range, x and y may come back as another point of the true
+        /// hit's checker parity (Q16.16; a plane's x and y serve only its texture).
         fn plane_hit(
             rows: &[Self::Row; 3],
             o: [Self; 3],
             d: Self::Dir,
             t_min: Self,
             t_max: Self,
+            checker: (Self, Self),
         ) -> Option<(Self, Self, Self)>;
-
-        /// The distance [`Kernels::plane_hit`] gives a hit beyond the type's
-        /// range (Q16.16: just below 32768; f32: infinity, which no hit has).
-        const PLANE_FAR_T: Self;
-        /// For a hit of [`Kernels::plane_hit`] at [`Kernels::PLANE_FAR_T`] on a
-        /// plane checkered with `side` and `scale` (as [`Kernels::checker_cell`]
-        /// takes them): object-space x and y of the true hit's checker parity
-        /// (Q16.16: `number::plane::far_checker`). `None`: the plane's own stand.
-        fn plane_far_checker(
-            _rows: &[Self::Row; 3],
-            _o: [Self; 3],
-            _d: Self::Dir,
-            _side: Self,
-            _scale: Self,
-        ) -> Option<(Self, Self)> {
-            None
-        }
 
         /// [`Kernels::rows_apply_unit`] for a precise direction marked unit (a
         /// camera ray's), from its mantissas: `None` where the type keeps the

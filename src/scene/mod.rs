@@ -246,15 +246,9 @@ impl<S: Scalar> Object<S> {
         if self.shape == Shape::Plane {
             // Unbounded plane: from the ray's own origin, with the precise
             // direction (a grazing hit 100 away moves by 100² times its error).
-            let (t, x, y) = self.to_object.plane_hit(o, precise, t_min, t_max)?;
-            // Beyond Q16.16's range, the true hit's square rather than the one at the clamp.
-            let (x, y) = if t == S::PLANE_FAR_T {
-                self.to_object
-                    .plane_far_checker(o, precise, self.texture, self.inv_texture)
-                    .unwrap_or((x, y))
-            } else {
-                (x, y)
-            };
+            let (t, x, y) = self
+                .to_object
+                .plane_hit(o, precise, t_min, t_max, (self.texture, self.inv_texture))?;
             let local = LocalHit {
                 t,
                 p: Vec3::new(x, y, S::ZERO),

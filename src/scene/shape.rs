@@ -135,7 +135,14 @@ fn sphere<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<Local
 /// here with identity rows.
 fn plane<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
     let rows = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]].map(S::row_from_f64);
-    let (t, x, y) = S::plane_hit(&rows, o.to_array(), S::dir_from(d.to_array()), t_min, t_max)?;
+    let (t, x, y) = S::plane_hit(
+        &rows,
+        o.to_array(),
+        S::dir_from(d.to_array()),
+        t_min,
+        t_max,
+        (S::ZERO, S::ZERO),
+    )?;
     Some(LocalHit {
         t,
         p: Vec3::new(x, y, S::ZERO),
