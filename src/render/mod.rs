@@ -9,6 +9,7 @@ use crate::camera::{Camera, CameraSample};
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
 use crate::render::cull::LensCones;
+use crate::render::defocus::Defocus;
 use crate::render::footprint::BrightFootprints;
 use crate::scene::Scene;
 use embedded_graphics_core::draw_target::DrawTarget;
@@ -17,6 +18,7 @@ use embedded_graphics_core::pixelcolor::Rgb888;
 use embedded_graphics_core::primitives::Rectangle;
 
 pub mod cull;
+pub mod defocus;
 pub mod footprint;
 pub mod progressive;
 mod trace;
@@ -36,6 +38,8 @@ pub struct Renderer<'a, S: Scalar> {
     pub(crate) sampler: Sampler,
     /// Pixels a bright object may reach through part of the lens: no early stop.
     pub(crate) bright: BrightFootprints,
+    /// The lens rays' footprints, for box-filtered checkers (stratified sampler).
+    pub(crate) defocus: Defocus<S>,
 }
 
 /// The pilot of `point 64` to 127: one sample in each of 16 equal strata of
@@ -59,24 +63,40 @@ pub const ADAPTIVE_MIN_POINT: u32 = 5 * ADAPTIVE_MIN_PILOT / 2;
 /// the standard error `samples` independent samples have on that pixel (a
 /// share f < 1/P of the lens at brightness B: B f against B √(f/samples)).
 pub fn adaptive_pilot(samples: u32) -> u32 {
-    let quarter = (samples / 4).max(1);
-    (1u32 << (31 - quarter.leading_zeros())).max(ADAPTIVE_MIN_PILOT)
+    let third = (samples / 3).max(1);
+    (1u32 << (31 - third.leading_zeros())).max(ADAPTIVE_MIN_PILOT)
+}
+
+/// The pilot of a pixel a lamp may reach through part of the lens (see
+/// [`BrightFootprints`]): twice [`adaptive_pilot`], so that it sees the lens
+/// at half the full render's resolution, where that stays within 40 % of
+/// `samples` (a pilot above the ray budget everywhere in a frame full of
+/// lamps' footprints would spend more than the budget on every pixel).
+pub fn adaptive_risk_pilot(samples: u32) -> u32 {
+    let budget = (samples.saturating_mul(2) / 5).max(1);
+    let budget = 1u32 << (31 - budget.leading_zeros());
+    adaptive_pilot(samples.saturating_mul(2)).min(budget.max(adaptive_pilot(samples)))
+}
+
+/// The most samples an adaptive pixel away from lamps takes: 40 % of `samples`.
+pub fn adaptive_limit(samples: u32) -> u32 {
+    samples.saturating_mul(2) / 5
 }
 
 /// The variance of an adaptive pixel's mean, in 8-bit levels squared, below
 /// which it stops whatever its samples, in sixteenths (16: one level²).
-const ADAPTIVE_VAR_SIXTEENTHS: u128 = 16;
+const ADAPTIVE_VAR_SIXTEENTHS: u128 = 4;
 
 /// The variance of an adaptive pixel's mean below which it stops, relative
 /// to that of the independent full render (s²/`point`), in sixteenths (32:
 /// twice it; the quarters' estimate overstates a stratified mean's variance).
-const ADAPTIVE_REL_SIXTEENTHS: u128 = 32;
+const ADAPTIVE_REL_SIXTEENTHS: u128 = 16;
 
 /// How many times lower than the independent estimate s²/n the stratified
 /// samples' variance is believed at most: the safety margin that makes a
 /// pixel with much contrast among its samples go on even when its quarters
 /// agree by chance.
-const ADAPTIVE_MAX_GAIN: u128 = 32;
+const ADAPTIVE_MAX_GAIN: u128 = 8;
 
 /// Running sums of a pixel's samples in 8-bit levels (unclamped: a lamp
 /// brighter than white weighs what it adds to the mean), per channel, in
@@ -164,6 +184,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             samples: scene.camera.samples.max(1),
             adaptive: scene.camera.adaptive,
             sampler: scene.camera.sampler,
+            defocus: Defocus::new(scene),
         }
     }
 
@@ -260,18 +281,38 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let adaptive = self.adaptive && self.samples >= ADAPTIVE_MIN_POINT;
         // Where a lamp may shine through part of the lens, a pilot at half the
         // full render's resolution of the lens.
-        let mut check = if self.bright.at_risk(col, row) {
-            adaptive_pilot(self.samples.saturating_mul(2))
+        let risk = self.bright.at_risk(col, row);
+        let mut check = if risk {
+            adaptive_risk_pilot(self.samples)
         } else {
             adaptive_pilot(self.samples)
         };
+        // Away from lamps a pixel that is not settled stops at 40 % of the
+        // samples: stratified, box-filtered samples there beat `samples`
+        // independent ones, and the ray budget holds on every frame.
+        let limit = if adaptive {
+            adaptive_limit(self.samples).max(check)
+        } else {
+            self.samples
+        };
         let mut n = 0;
-        while n < self.samples {
+        // Stratified rays stand for a stratum each: with adaptive sampling,
+        // one of the `check` strata the samples so far divide the lens into;
+        // else one of the largest power of two within `samples`.
+        let fixed_strata = 1u32 << (31 - self.samples.leading_zeros());
+        let filter = self.sampler == Sampler::Stratified;
+        while n < limit {
             let ray = self.camera.generate_ray(&CameraSample {
                 film: &film,
                 lens: Some(lens.next(self.camera.aperture())),
             });
-            let c = self.scene.trace_camera_ray(&ray, &self.cones);
+            let c = if filter {
+                let strata = if adaptive { check.min(fixed_strata) } else { fixed_strata };
+                let stratum = self.defocus.stratum(strata);
+                self.scene.trace_lens_ray(&ray, &self.cones, &self.defocus, stratum)
+            } else {
+                self.scene.trace_camera_ray(&ray, &self.cones)
+            };
             acc = [
                 S::acc_add(acc[0], c.x),
                 S::acc_add(acc[1], c.y),
@@ -281,7 +322,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 stats.add(n, check, c);
             }
             n += 1;
-            if adaptive && n == check && n < self.samples {
+            if adaptive && n == check && n < limit {
                 if stats.settled(n, self.samples) {
                     break;
                 }

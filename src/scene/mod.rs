@@ -150,6 +150,9 @@ pub struct Object<S: Scalar> {
     /// The plane's world unit normal, the same for every hit: computed once,
     /// exactly as [`Object::normal`] would compute it per hit.
     plane_normal: Vec3<S>,
+    /// Checker cells per world unit along each object axis (the world → object
+    /// rows' lengths over the side; 0 without texture): a lens ray's footprint in cells.
+    texture_spread: Vec3<S>,
 }
 
 impl<S: crate::number::BakeScalar> crate::bytes::Field for Object<S> {
@@ -162,6 +165,7 @@ impl<S: crate::number::BakeScalar> crate::bytes::Field for Object<S> {
         normal_to_world,
         bound,
         plane_normal,
+        texture_spread,
     }, check(obj) {
         // The plane is the one shape without a bounding sphere; intersect relies on it.
         if (obj.shape == Shape::Plane) != obj.bound.is_none() {
@@ -220,6 +224,11 @@ impl<S: Scalar> Object<S> {
             normal_to_world,
             bound,
             plane_normal: normal_to_world.vector_unit(Vec3::new(S::ZERO, S::ZERO, S::ONE)).0,
+            texture_spread: if desc.texture > 0.0 {
+                Vec3::from_f64(inv.0.map(|r| libm::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) / desc.texture))
+            } else {
+                Vec3::new(S::ZERO, S::ZERO, S::ZERO)
+            },
         })
     }
 
@@ -375,6 +384,50 @@ impl<S: Scalar> Object<S> {
         let cell = |x: S| S::checker_cell(x, self.texture, k);
         let sum = cell(p.x) + cell(p.y) + cell(p.z);
         sum & 1 == 1
+    }
+
+    /// The checker's darkening (1 on a light square, 1/4 on a dark one)
+    /// averaged over a lens ray's footprint: a box of half-width `w` world
+    /// units in the surface's tangent plane around the hit. `None` where the
+    /// box lies inside one square (then [`Object::in_dark_square`] decides,
+    /// bit for bit as before), or without texture. The checker is a product of
+    /// square waves along the object axes, so the box average is the product
+    /// of each wave's average, the difference of its integral (a triangle
+    /// wave) at the box's ends over the box's width.
+    pub fn checker_filtered(&self, hit: &Hit<S>, w: S) -> Option<S> {
+        if self.inv_texture == S::ZERO || w <= S::ZERO {
+            return None;
+        }
+        let (n, _) = S::normalize3(hit.local.n.to_array());
+        let p = hit.local.p.to_array();
+        let spread = self.texture_spread.to_array();
+        let mut product = S::ONE;
+        let mut blurred = false;
+        for k in 0..3 {
+            let (cell, frac) = S::checker_pos(p[k], self.texture, self.inv_texture);
+            // The box's half-width along axis k, in cells: a disc of radius w
+            // in the tangent plane spans w √(1 − n_k²) of it (1 − n_k², below).
+            let e = w.mul(spread[k]).mul(S::ONE.sub(n[k].mul(n[k])).max(S::ZERO));
+            let mean = if e <= frac.min(S::ONE.sub(frac)) {
+                S::ONE
+            } else {
+                blurred = true;
+                let two = S::from_i32(2);
+                // The square wave's integral from the cell's start: period 2, peak 1.
+                let tri = |v: S| {
+                    let m = v.sub(two.mul(S::from_i32(v.mul(S::from_q15(16384)).floor_i32())));
+                    if m <= S::ONE {
+                        m
+                    } else {
+                        two.sub(m)
+                    }
+                };
+                tri(frac.add(e)).sub(tri(frac.sub(e))).div(e.add(e))
+            };
+            product = if cell & 1 == 1 { product.mul(mean).neg() } else { product.mul(mean) };
+        }
+        // Dark share (1 − product)/2 at 1/4: 5/8 + 3/8 product.
+        blurred.then(|| S::from_q15(20480).add(S::from_q15(12288).mul(product)))
     }
 }
 
