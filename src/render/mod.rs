@@ -42,7 +42,7 @@ pub struct Renderer<'a, S: Scalar> {
     pub(crate) defocus: Defocus<S>,
 }
 
-/// The pilot of `point 64` to 127: one sample in each of 16 equal strata of
+/// The pilot of `point 48` to 95: one sample in each of 16 equal strata of
 /// the lens (see [`crate::camera::sampler`]).
 pub const ADAPTIVE_PILOT: u32 = 16;
 
@@ -56,12 +56,13 @@ pub const ADAPTIVE_MIN_PILOT: u32 = 8;
 pub const ADAPTIVE_MIN_POINT: u32 = 5 * ADAPTIVE_MIN_PILOT / 2;
 
 /// The pilot of a pixel with `samples` lens samples: the largest power of two
-/// at most a quarter of them, and at least [`ADAPTIVE_MIN_PILOT`]. A pixel
-/// that stops after its pilot has seen the lens at a quarter to an eighth of
+/// at most a third of them, and at least [`ADAPTIVE_MIN_PILOT`]. A pixel
+/// that stops after its pilot has seen the lens at a third to a sixth of
 /// the full render's resolution: what reaches it through less of the lens
-/// than one stratum is what the pilot may miss, an error at most √8 times
+/// than one stratum is what the pilot may miss, an error at most √6 times
 /// the standard error `samples` independent samples have on that pixel (a
 /// share f < 1/P of the lens at brightness B: B f against B √(f/samples)).
+/// A quarter (pilot 8 at `point 63`) missed such features on unseen scenes.
 pub fn adaptive_pilot(samples: u32) -> u32 {
     let third = (samples / 3).max(1);
     (1u32 << (31 - third.leading_zeros())).max(ADAPTIVE_MIN_PILOT)
@@ -84,12 +85,15 @@ pub fn adaptive_limit(samples: u32) -> u32 {
 }
 
 /// The variance of an adaptive pixel's mean, in 8-bit levels squared, below
-/// which it stops whatever its samples, in sixteenths (16: one level²).
+/// which it stops whatever its samples, in sixteenths (4: a quarter level²;
+/// at one level², pixels of faint noise stopped at the pilot summed to more
+/// error than `point` independent samples leave).
 const ADAPTIVE_VAR_SIXTEENTHS: u128 = 4;
 
 /// The variance of an adaptive pixel's mean below which it stops, relative
-/// to that of the independent full render (s²/`point`), in sixteenths (32:
-/// twice it; the quarters' estimate overstates a stratified mean's variance).
+/// to that of the independent full render (s²/`point`), in sixteenths (16:
+/// the same; twice it let pilots of 8 stop at 1.5 times the independent
+/// render's error on unseen scenes).
 const ADAPTIVE_REL_SIXTEENTHS: u128 = 16;
 
 /// How many times lower than the independent estimate s²/n the stratified
@@ -107,7 +111,13 @@ const ADAPTIVE_MAX_GAIN: u128 = 8;
 struct LevelStats {
     quarter: [[u64; 3]; 4],
     sum_sq: [u64; 3],
+    /// A sample came out brighter than [`ADAPTIVE_HOT_LEVEL`]: a lamp in view.
+    hot: bool,
 }
+
+/// A sample level (of 255) above which a pixel in a lamp's footprint has seen
+/// the lamp, and may take all its samples: twice white.
+const ADAPTIVE_HOT_LEVEL: u32 = 510;
 
 impl LevelStats {
     /// Adds sample `k` (0-based) of a pixel whose next check is at `check` samples.
@@ -117,6 +127,7 @@ impl LevelStats {
         let shift = check.trailing_zeros().saturating_sub(2);
         let q = (k >> shift).min(3) as usize;
         for (i, l) in [level(c.x), level(c.y), level(c.z)].into_iter().enumerate() {
+            self.hot |= l > ADAPTIVE_HOT_LEVEL;
             self.quarter[q][i] += l as u64;
             // l < 2¹⁶: the square fits a u32 (no 64-bit multiply on the M0).
             self.sum_sq[i] += (l * l) as u64;
@@ -261,10 +272,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     ///
     /// With adaptive sampling (and at least [`ADAPTIVE_MIN_POINT`] samples) a
     /// pixel takes a pilot of [`adaptive_pilot`] lens samples (twice that in
-    /// a lamp's footprint, see [`BrightFootprints`]), then at every
-    /// power of two asks whether its mean is settled (see the scene format's
-    /// "Adaptive lens sampling"), and stops there; else it goes on, up to all
-    /// the samples. The samples taken are the first ones of the full render.
+    /// a lamp's footprint, see [`BrightFootprints`] and
+    /// [`adaptive_risk_pilot`]), then at every power of two asks whether its
+    /// mean is settled (see the scene format's "Adaptive lens sampling"), and
+    /// stops there; else it goes on, up to [`adaptive_limit`] samples. The
+    /// samples taken are the first ones of the full render. With the
+    /// stratified sampler, a ray that meets a checker averages it over its
+    /// stratum's footprint (see [`Defocus`]): one of `check` strata while the
+    /// pixel is adaptive, else of the largest power of two within the samples.
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
         let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
@@ -287,14 +302,16 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         } else {
             adaptive_pilot(self.samples)
         };
-        // Away from lamps a pixel that is not settled stops at 40 % of the
-        // samples: stratified, box-filtered samples there beat `samples`
-        // independent ones, and the ray budget holds on every frame.
-        let limit = if adaptive {
+        // A pixel that is not settled stops at 40 % of the samples
+        // (stratified, box-filtered samples there beat `samples` independent
+        // ones), unless a lamp's footprint covers it and its samples saw
+        // the lamp: a bright out-of-focus light through part of the lens.
+        let cap = if adaptive {
             adaptive_limit(self.samples).max(check)
         } else {
             self.samples
         };
+        let mut limit = cap;
         let mut n = 0;
         // Stratified rays stand for a stratum each: with adaptive sampling,
         // one of the `check` strata the samples so far divide the lens into;
@@ -322,9 +339,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 stats.add(n, check, c);
             }
             n += 1;
-            if adaptive && n == check && n < limit {
+            if adaptive && n == check && n < self.samples {
                 if stats.settled(n, self.samples) {
                     break;
+                }
+                // Only where the cap leaves room beyond the pilot (point 25 up).
+                if risk && stats.hot && check < cap {
+                    limit = self.samples;
                 }
                 stats.double();
                 check = check.saturating_mul(2);

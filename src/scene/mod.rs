@@ -394,20 +394,30 @@ impl<S: Scalar> Object<S> {
     /// square waves along the object axes, so the box average is the product
     /// of each wave's average, the difference of its integral (a triangle
     /// wave) at the box's ends over the box's width.
-    pub fn checker_filtered(&self, hit: &Hit<S>, w: S) -> Option<S> {
+    pub fn checker_filtered(&self, hit: &Hit<S>, d: Vec3<S>, w: S) -> Option<S> {
         if self.inv_texture == S::ZERO || w <= S::ZERO {
             return None;
         }
         let (n, _) = S::normalize3(hit.local.n.to_array());
         let p = hit.local.p.to_array();
         let spread = self.texture_spread.to_array();
+        // A slanted ray's footprint stretches by 1/cos along the ray's trace
+        // on the surface (t, the local direction's tangential part): a grazing
+        // view of a far floor, where squares flip most across the lens.
+        let u = self.to_object.vector_unit(d).0.to_array();
+        let un = u[0].mul(n[0]).add(u[1].mul(n[1])).add(u[2].mul(n[2]));
+        // At most 16 times (1/cos capped): beyond it the box is grey anyway.
+        let stretch = S::ONE.div(un.abs().max(S::from_q15(2048))).sub(S::ONE);
         let mut product = S::ONE;
         let mut blurred = false;
         for k in 0..3 {
             let (cell, frac) = S::checker_pos(p[k], self.texture, self.inv_texture);
             // The box's half-width along axis k, in cells: a disc of radius w
-            // in the tangent plane spans w √(1 − n_k²) of it (1 − n_k², below).
-            let e = w.mul(spread[k]).mul(S::ONE.sub(n[k].mul(n[k])).max(S::ZERO));
+            // in the tangent plane spans w √(1 − n_k²) of it (1 − n_k², below),
+            // plus the stretch along t.
+            let t_k = u[k].sub(n[k].mul(un)).abs();
+            let across = S::ONE.sub(n[k].mul(n[k])).max(S::ZERO).add(t_k.mul(stretch));
+            let e = w.mul(spread[k]).mul(across);
             let mean = if e <= frac.min(S::ONE.sub(frac)) {
                 S::ONE
             } else {
