@@ -1,7 +1,7 @@
 //! Where an adaptive render's error is: squared error against the converged
 //! reference by the rays each pixel cast (diagnosis; `adaptive_diag SCENE WIDTH`).
-use lensray::unstable::sampler::Sampler;
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
+use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
 use lensray_host::convergence::reference;
 

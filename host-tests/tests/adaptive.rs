@@ -6,7 +6,9 @@
 //! the generated-scene campaign `cargo run --release -p lensray-host
 //! --example adaptive_campaign`).
 
-use lensray::unstable::render::{adaptive_limit, adaptive_pilot, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT};
+use lensray::unstable::render::{
+    adaptive_limit, adaptive_pilot, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT,
+};
 use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
 use lensray_host::convergence::{measure, reference, Setting};
@@ -86,9 +88,10 @@ fn run_time_seeds(count: u64) -> Vec<u64> {
 /// 80x60 against references of 512 samples (the campaign example measures
 /// many more, larger). The ray floor holds on every scene by construction
 /// and is asserted on each; the PSNR floor is not met on every generated
-/// scene (1 of 26 unseen seeds in BENCHMARKS.md, a frame of noise-like
-/// shading where 8 stratified samples stay under 21 independent ones): each
-/// run allows one of its six scenes to fall short, by less than 1.5 dB.
+/// scene (see BENCHMARKS.md, "The scene generator's lens scenes": frames of
+/// noise-like shading where 8 stratified samples stay under 21 independent
+/// ones): each run allows one of its six scenes to fall short, by less than
+/// 1.5 dB.
 #[test]
 fn generated_lens_scenes_meet_the_floors() {
     let mut short = Vec::new();
@@ -107,8 +110,14 @@ fn generated_lens_scenes_meet_the_floors() {
             def.psnr,
             100.0 * def.rays / point as f64
         );
-        assert!(def.rays <= 0.4 * point as f64, "seed {seed}: {:.2} rays of {point}", def.rays);
-        if def.psnr < ind.psnr {
+        assert!(
+            def.rays <= 0.4 * point as f64,
+            "seed {seed}: {:.2} rays of {point}",
+            def.rays
+        );
+        // Above 60 dB (a mean square error under 0.07 level²) both renders
+        // differ from the reference by a few pixels' rounding: not judged.
+        if def.psnr < ind.psnr && def.psnr < 60.0 {
             short.push((seed, ind.psnr - def.psnr));
         }
     }
@@ -219,10 +228,7 @@ fn samples_that_agree_stop_after_the_pilot_and_others_go_on() {
         .collect();
     assert!(counts.contains(&adaptive_limit(70)));
     assert!(counts.contains(&ADAPTIVE_PILOT));
-    assert!(
-        counts.iter().all(|&n| [16, 28].contains(&n)),
-        "the pilot or the limit"
-    );
+    assert!(counts.iter().all(|&n| [16, 28].contains(&n)), "the pilot or the limit");
     // A stopped pixel's samples are the first ones of the full render: with
     // as many samples as it took, adaptive off gives the same colour.
     let (x, y) = (0..4800)

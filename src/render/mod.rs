@@ -324,7 +324,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 lens: Some(lens.next(self.camera.aperture())),
             });
             let c = if filter {
-                let strata = if adaptive { check.min(fixed_strata) } else { fixed_strata };
+                let strata = if adaptive {
+                    check.min(fixed_strata)
+                } else {
+                    fixed_strata
+                };
                 let stratum = self.defocus.stratum(strata);
                 self.scene.trace_lens_ray(&ray, &self.cones, &self.defocus, stratum)
             } else {

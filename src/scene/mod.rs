@@ -225,7 +225,10 @@ impl<S: Scalar> Object<S> {
             bound,
             plane_normal: normal_to_world.vector_unit(Vec3::new(S::ZERO, S::ZERO, S::ONE)).0,
             texture_spread: if desc.texture > 0.0 {
-                Vec3::from_f64(inv.0.map(|r| libm::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) / desc.texture))
+                Vec3::from_f64(
+                    inv.0
+                        .map(|r| libm::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) / desc.texture),
+                )
             } else {
                 Vec3::new(S::ZERO, S::ZERO, S::ZERO)
             },
@@ -434,7 +437,11 @@ impl<S: Scalar> Object<S> {
                 };
                 tri(frac.add(e)).sub(tri(frac.sub(e))).div(e.add(e))
             };
-            product = if cell & 1 == 1 { product.mul(mean).neg() } else { product.mul(mean) };
+            product = if cell & 1 == 1 {
+                product.mul(mean).neg()
+            } else {
+                product.mul(mean)
+            };
         }
         // Dark share (1 − product)/2 at 1/4: 5/8 + 3/8 product.
         blurred.then(|| S::from_q15(20480).add(S::from_q15(12288).mul(product)))
