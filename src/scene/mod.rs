@@ -401,26 +401,38 @@ impl<S: Scalar> Object<S> {
         if self.inv_texture == S::ZERO || w <= S::ZERO {
             return None;
         }
-        let (n, _) = S::normalize3(hit.local.n.to_array());
+        // Unit on every shape but the cone's side: a square root only there.
+        let n = if self.shape == Shape::Cone {
+            S::normalize3(hit.local.n.to_array()).0
+        } else {
+            hit.local.n.to_array()
+        };
         let p = hit.local.p.to_array();
         let spread = self.texture_spread.to_array();
-        // A slanted ray's footprint stretches by 1/cos along the ray's trace
-        // on the surface (t, the local direction's tangential part): a grazing
-        // view of a far floor, where squares flip most across the lens.
-        let u = self.to_object.vector_unit(d).0.to_array();
-        let un = u[0].mul(n[0]).add(u[1].mul(n[1])).add(u[2].mul(n[2]));
-        // At most 16 times (1/cos capped): beyond it the box is grey anyway.
-        let stretch = S::ONE.div(un.abs().max(S::from_q15(2048))).sub(S::ONE);
+        // A slanted ray's footprint stretches by about 1/cos along the ray's
+        // trace on the surface (t, the local direction's tangential part, over
+        // its normal part; at most 16 times): a grazing view of a far floor,
+        // where squares flip most across the lens. One division a ray.
+        let v = self.to_object.vector(d).to_array();
+        let vn = v[0].mul(n[0]).add(v[1].mul(n[1])).add(v[2].mul(n[2]));
+        let slant = S::ONE.div(vn.abs().max(S::from_q15(64)));
+        let most = S::from_i32(16);
         let mut product = S::ONE;
         let mut blurred = false;
         for k in 0..3 {
             let (cell, frac) = S::checker_pos(p[k], self.texture, self.inv_texture);
-            // The box's half-width along axis k, in cells: a disc of radius w
-            // in the tangent plane spans w √(1 − n_k²) of it (1 − n_k², below),
-            // plus the stretch along t.
-            let t_k = u[k].sub(n[k].mul(un)).abs();
-            let across = S::ONE.sub(n[k].mul(n[k])).max(S::ZERO).add(t_k.mul(stretch));
-            let e = w.mul(spread[k]).mul(across);
+            // The box's half-width along axis k, in cells: the footprint, an
+            // ellipse of half-axes w/cos along t and w across it, spans
+            // w √((1 − n_k²) + (t_k/cos)²) of it; as max + 3/8 min of
+            // 1 − n_k² (at most the root) and t_k/cos, no square root.
+            let across = S::ONE.sub(n[k].mul(n[k])).max(S::ZERO);
+            let along = v[k].sub(n[k].mul(vn)).abs().mul(slant).min(most);
+            let (big, small) = if across > along {
+                (across, along)
+            } else {
+                (along, across)
+            };
+            let e = w.mul(spread[k]).mul(big.add(small.mul(S::from_q15(12288))));
             let mean = if e <= frac.min(S::ONE.sub(frac)) {
                 S::ONE
             } else {
