@@ -94,10 +94,11 @@ impl<S: Scalar> Scene<S> {
     }
 
     /// As [`Scene::trace_camera_ray`], for a ray standing for a stratum of
-    /// the lens (`stratum` from [`Defocus::stratum`]): a checker it meets is
+    /// the lens where `footprint` is given (the camera's defocus and the
+    /// stratum's radius from [`Defocus::stratum`]): a checker it meets is
     /// averaged over the stratum's footprint there (see [`Defocus`]).
-    pub fn trace_lens_ray(&self, ray: &Ray<S>, cones: &LensCones<S>, defocus: &Defocus<S>, stratum: S) -> Vec3<S> {
-        self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones), Some((defocus, stratum)))
+    pub fn trace_lens_ray(&self, ray: &Ray<S>, cones: &LensCones<S>, footprint: Option<(&Defocus<S>, S)>) -> Vec3<S> {
+        self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones), footprint)
     }
 
     fn trace_culled(
