@@ -186,9 +186,28 @@ impl<S: BakeScalar> Baked<S> {
     pub fn load(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
         let result = self.load_checked(bytes);
         if result.is_err() {
-            *self = Baked::empty();
+            self.clear();
         }
         result
+    }
+
+    /// Empties `self` field by field: `*self = Baked::empty()` built a whole
+    /// second scene on the Cortex-M0's stack before copying it over.
+    fn clear(&mut self) {
+        let scene = &mut self.scene;
+        scene.camera = crate::camera::CameraParams::default();
+        scene.ambient = crate::geometry::vec3::Vec3::ZERO;
+        scene.background = crate::geometry::vec3::Vec3::ZERO;
+        scene.shadows = false;
+        scene.objects.clear();
+        scene.lights.clear();
+        self.camera = Camera::blank();
+        self.cones = LensCones::blank();
+        self.samples = 1;
+        self.adaptive = false;
+        self.sampler = Sampler::default();
+        self.bright = BrightFootprints::blank();
+        self.defocus = Defocus::blank();
     }
 
     fn load_checked(&mut self, bytes: &[u8]) -> Result<(), BakeError> {

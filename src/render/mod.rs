@@ -109,15 +109,13 @@ const ADAPTIVE_MAX_GAIN: u128 = 8;
 /// the sequence).
 #[derive(Default)]
 struct LevelStats {
-    quarter: [[u64; 3]; 4],
+    /// At most 2¹⁵ samples below 2¹⁶ levels each: a u32 holds them (and
+    /// leaves the Cortex-M0's stack the room of the flag below).
+    quarter: [[u32; 3]; 4],
     sum_sq: [u64; 3],
-    /// A sample came out brighter than [`ADAPTIVE_HOT_LEVEL`]: a lamp in view.
+    /// A sample came out brighter than twice white: a lamp in view.
     hot: bool,
 }
-
-/// A sample level (of 255) above which a pixel in a lamp's footprint has seen
-/// the lamp, and may take all its samples: twice white.
-const ADAPTIVE_HOT_LEVEL: u32 = 510;
 
 impl LevelStats {
     /// Adds sample `k` (0-based) of a pixel whose next check is at `check` samples.
@@ -127,8 +125,8 @@ impl LevelStats {
         let shift = check.trailing_zeros().saturating_sub(2);
         let q = (k >> shift).min(3) as usize;
         for (i, l) in [level(c.x), level(c.y), level(c.z)].into_iter().enumerate() {
-            self.hot |= l > ADAPTIVE_HOT_LEVEL;
-            self.quarter[q][i] += l as u64;
+            self.hot |= l > 510;
+            self.quarter[q][i] += l;
             // l < 2¹⁶: the square fits a u32 (no 64-bit multiply on the M0).
             self.sum_sq[i] += (l * l) as u64;
         }
@@ -315,9 +313,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut n = 0;
         // Stratified rays stand for a stratum each: with adaptive sampling,
         // one of the `check` strata the samples so far divide the lens into;
-        // else one of the largest power of two within `samples`.
-        let fixed_strata = 1u32 << (31 - self.samples.leading_zeros());
-        let filter = self.sampler == Sampler::Stratified;
+        // else one of the largest power of two within `samples` (the check
+        // of a pixel that is not adaptive; no more locals: the M0's stack).
+        if !adaptive {
+            check = 1u32 << (31 - self.samples.leading_zeros());
+        }
         while n < limit {
             let ray = self.camera.generate_ray(&CameraSample {
                 film: &film,
@@ -325,12 +325,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             });
             // One call site for both samplers: two inlined copies of the trace
             // took 4 KiB more stack on the Cortex-M0.
-            let footprint = filter.then(|| {
-                let strata = if adaptive {
-                    check.min(fixed_strata)
-                } else {
-                    fixed_strata
-                };
+            let footprint = (self.sampler == Sampler::Stratified).then(|| {
+                let strata = check.min(1u32 << (31 - self.samples.leading_zeros()));
                 (&self.defocus, self.defocus.stratum(strata))
             });
             let c = self.scene.trace_lens_ray(&ray, &self.cones, footprint);
@@ -348,7 +344,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     break;
                 }
                 // Only where the cap leaves room beyond the pilot (point 25 up).
-                if risk && stats.hot && check < cap {
+                if risk && check < cap && stats.hot {
                     limit = self.samples;
                 }
                 stats.double();

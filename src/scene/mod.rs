@@ -150,9 +150,6 @@ pub struct Object<S: Scalar> {
     /// The plane's world unit normal, the same for every hit: computed once,
     /// exactly as [`Object::normal`] would compute it per hit.
     plane_normal: Vec3<S>,
-    /// Checker cells per world unit along each object axis (the world → object
-    /// rows' lengths over the side; 0 without texture): a lens ray's footprint in cells.
-    texture_spread: Vec3<S>,
 }
 
 impl<S: crate::number::BakeScalar> crate::bytes::Field for Object<S> {
@@ -165,7 +162,6 @@ impl<S: crate::number::BakeScalar> crate::bytes::Field for Object<S> {
         normal_to_world,
         bound,
         plane_normal,
-        texture_spread,
     }, check(obj) {
         // The plane is the one shape without a bounding sphere; intersect relies on it.
         if (obj.shape == Shape::Plane) != obj.bound.is_none() {
@@ -224,14 +220,6 @@ impl<S: Scalar> Object<S> {
             normal_to_world,
             bound,
             plane_normal: normal_to_world.vector_unit(Vec3::new(S::ZERO, S::ZERO, S::ONE)).0,
-            texture_spread: if desc.texture > 0.0 {
-                Vec3::from_f64(
-                    inv.0
-                        .map(|r| libm::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) / desc.texture),
-                )
-            } else {
-                Vec3::new(S::ZERO, S::ZERO, S::ZERO)
-            },
         })
     }
 
@@ -410,19 +398,21 @@ impl<S: Scalar> Object<S> {
             hit.local.n.to_array()
         };
         let p = hit.local.p.to_array();
-        let spread = self.texture_spread.to_array();
         // A slanted ray's footprint stretches by about 1/cos along the ray's
         // trace on the surface (t, the local direction's tangential part, over
         // its normal part; at most 16 times): a grazing view of a far floor,
         // where squares flip most across the lens. One division a ray.
         let v = self.to_object.vector(d).to_array();
+        // World to object lengths along the ray, over the square's side: the
+        // footprint's radius in cells (exact for rotations and uniform scales).
+        let w_cells = w.mul(S::length3(v)).div(self.texture);
         let vn = v[0].mul(n[0]).add(v[1].mul(n[1])).add(v[2].mul(n[2]));
         let slant = S::ONE.div(vn.abs().max(S::from_q15(64)));
         let mut product = S::ONE;
         let mut blurred = false;
         for k in 0..3 {
             let (cell, frac) = S::checker_pos(p[k], self.texture, self.inv_texture);
-            let (mean, b) = axis_mean(frac, n[k], v[k], vn, slant, w.mul(spread[k]));
+            let (mean, b) = axis_mean(frac, n[k], v[k], vn, slant, w_cells);
             blurred |= b;
             product = if cell & 1 == 1 {
                 product.mul(mean).neg()
