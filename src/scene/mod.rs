@@ -523,6 +523,50 @@ impl<S: Scalar> Default for Scene<S> {
     }
 }
 
+/// The mean over [frac − e, frac + e] of the square wave that is 1 on its
+/// cell [0, 1) and −1 on the next: the difference of its integral, a
+/// triangle wave of period 2 and peak 1, at the ends over the width (e > 0).
+#[inline(never)]
+fn box_mean<S: Scalar>(frac: S, e: S) -> S {
+    let two = S::from_i32(2);
+    let tri = |v: S| {
+        let m = v.sub(two.mul(S::from_i32(v.mul(S::from_q15(16384)).floor_i32())));
+        if m <= S::ONE {
+            m
+        } else {
+            two.sub(m)
+        }
+    };
+    tri(frac.add(e)).sub(tri(frac.sub(e))).div(e.add(e))
+}
+
+/// The checker's square wave along one object axis averaged over a lens
+/// ray's footprint, relative to the hit's cell (1 where the box lies inside
+/// it), and whether the box crossed a border. `frac` is the hit's place in
+/// its cell, `n_k` and `v_k` the normal's and the local direction's axis
+/// components, `vn` their dot product, `slant` 1/|vn| and `w_cells` the
+/// footprint's radius in cells per unit of extent. Out of line: one copy,
+/// not three, in the Cortex-M0's flash.
+#[inline(never)]
+fn axis_mean<S: Scalar>(frac: S, n_k: S, v_k: S, vn: S, slant: S, w_cells: S) -> (S, bool) {
+    // The footprint, an ellipse of half-axes w/cos along the ray's trace t
+    // and w across it, spans w √((1 − n_k²) + (t_k/cos)²) of the axis: as
+    // max + 3/8 min of 1 − n_k² (at most the root) and t_k/cos (at most 16).
+    let across = S::ONE.sub(n_k.mul(n_k)).max(S::ZERO);
+    let along = v_k.sub(n_k.mul(vn)).abs().mul(slant).min(S::from_i32(16));
+    let (big, small) = if across > along {
+        (across, along)
+    } else {
+        (along, across)
+    };
+    let e = w_cells.mul(big.add(small.mul(S::from_q15(12288))));
+    if e <= frac.min(S::ONE.sub(frac)) {
+        (S::ONE, false)
+    } else {
+        (box_mean(frac, e), true)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -617,49 +661,5 @@ mod tests {
         assert!(both(Shape::Cone, m, [0.0, 0.0, 0.0], [0.0, 0.0, 1.0]).is_none());
         // Grazing the bounding sphere but missing the cube inside it.
         assert!(both(Shape::Cube, m, [3.5, 3.5, 0.0], [0.0, 0.0, -1.0]).is_none());
-    }
-}
-
-/// The mean over [frac − e, frac + e] of the square wave that is 1 on its
-/// cell [0, 1) and −1 on the next: the difference of its integral, a
-/// triangle wave of period 2 and peak 1, at the ends over the width (e > 0).
-#[inline(never)]
-fn box_mean<S: Scalar>(frac: S, e: S) -> S {
-    let two = S::from_i32(2);
-    let tri = |v: S| {
-        let m = v.sub(two.mul(S::from_i32(v.mul(S::from_q15(16384)).floor_i32())));
-        if m <= S::ONE {
-            m
-        } else {
-            two.sub(m)
-        }
-    };
-    tri(frac.add(e)).sub(tri(frac.sub(e))).div(e.add(e))
-}
-
-/// The checker's square wave along one object axis averaged over a lens
-/// ray's footprint, relative to the hit's cell (1 where the box lies inside
-/// it), and whether the box crossed a border. `frac` is the hit's place in
-/// its cell, `n_k` and `v_k` the normal's and the local direction's axis
-/// components, `vn` their dot product, `slant` 1/|vn| and `w_cells` the
-/// footprint's radius in cells per unit of extent. Out of line: one copy,
-/// not three, in the Cortex-M0's flash.
-#[inline(never)]
-fn axis_mean<S: Scalar>(frac: S, n_k: S, v_k: S, vn: S, slant: S, w_cells: S) -> (S, bool) {
-    // The footprint, an ellipse of half-axes w/cos along the ray's trace t
-    // and w across it, spans w √((1 − n_k²) + (t_k/cos)²) of the axis: as
-    // max + 3/8 min of 1 − n_k² (at most the root) and t_k/cos (at most 16).
-    let across = S::ONE.sub(n_k.mul(n_k)).max(S::ZERO);
-    let along = v_k.sub(n_k.mul(vn)).abs().mul(slant).min(S::from_i32(16));
-    let (big, small) = if across > along {
-        (across, along)
-    } else {
-        (along, across)
-    };
-    let e = w_cells.mul(big.add(small.mul(S::from_q15(12288))));
-    if e <= frac.min(S::ONE.sub(frac)) {
-        (S::ONE, false)
-    } else {
-        (box_mean(frac, e), true)
     }
 }
