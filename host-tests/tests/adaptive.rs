@@ -141,7 +141,7 @@ fn generated_lens_scenes_stop_at_powers_of_two_or_the_limit_on_the_full_renders_
         let limit = adaptive_limit(point).max(pilot);
         for (x, y) in (0..18).flat_map(|y| (0..24).map(move |x| (x, y))) {
             let (c, n) = r.pixel_rays(x, y);
-            if point < ADAPTIVE_MIN_POINT || scene.camera.radius == 0.0 {
+            if point < ADAPTIVE_MIN_POINT || scene.camera.radius == 0.0 || !scene.camera.adaptive {
                 assert!(n == point || n == 1, "seed {seed}: {n} of {point}");
                 continue;
             }

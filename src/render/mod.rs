@@ -113,8 +113,9 @@ struct LevelStats {
     /// leaves the Cortex-M0's stack the room of the flag below).
     quarter: [[u32; 3]; 4],
     sum_sq: [u64; 3],
-    /// A sample came out brighter than twice white: a lamp in view.
-    hot: bool,
+    /// Bit 0: a sample came out brighter than twice white (a lamp in view);
+    /// bit 1: a sample did not. Both: a lamp through part of the lens.
+    lamp: u8,
 }
 
 impl LevelStats {
@@ -124,8 +125,9 @@ impl LevelStats {
         // check is a power of two: k / (check / 4) by a shift (no divide on the M0).
         let shift = check.trailing_zeros().saturating_sub(2);
         let q = (k >> shift).min(3) as usize;
-        for (i, l) in [level(c.x), level(c.y), level(c.z)].into_iter().enumerate() {
-            self.hot |= l > 510;
+        let levels = [level(c.x), level(c.y), level(c.z)];
+        self.lamp |= if levels.iter().any(|&l| l > 510) { 1 } else { 2 };
+        for (i, l) in levels.into_iter().enumerate() {
             self.quarter[q][i] += l;
             // l < 2¹⁶: the square fits a u32 (no 64-bit multiply on the M0).
             self.sum_sq[i] += (l * l) as u64;
@@ -302,8 +304,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         };
         // A pixel that is not settled stops at 40 % of the samples
         // (stratified, box-filtered samples there beat `samples` independent
-        // ones), unless a lamp's footprint covers it and its samples saw
-        // the lamp: a bright out-of-focus light through part of the lens.
+        // ones), unless a lamp's footprint covers it and some of its samples
+        // saw the lamp and some did not: a bright light through part of the lens.
         let cap = if adaptive {
             adaptive_limit(self.samples).max(check)
         } else {
@@ -344,7 +346,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     break;
                 }
                 // Only where the cap leaves room beyond the pilot (point 25 up).
-                if risk && check < cap && stats.hot {
+                if risk && check < cap && stats.lamp == 3 {
                     limit = self.samples;
                 }
                 stats.double();
