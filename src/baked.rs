@@ -60,6 +60,7 @@
 use crate::camera::sampler::Sampler;
 use crate::camera::{Camera, MAX_IMAGE_SIDE};
 use crate::render::cull::LensCones;
+use crate::render::defocus::Defocus;
 use crate::render::footprint::BrightFootprints;
 use crate::render::Renderer;
 use crate::scene::{Scene, MAX_OBJECTS};
@@ -79,6 +80,7 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
         adaptive,
         sampler,
         bright,
+        defocus,
     } = r;
     put_scene(scene, w);
     camera.put(w);
@@ -87,6 +89,7 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
     adaptive.put(w);
     sampler.put(w);
     bright.put(w);
+    defocus.put(w);
 }
 
 fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
@@ -152,6 +155,7 @@ pub struct Baked<S: BakeScalar> {
     adaptive: bool,
     sampler: Sampler,
     bright: BrightFootprints,
+    defocus: Defocus<S>,
 }
 
 impl<S: BakeScalar> Baked<S> {
@@ -165,6 +169,7 @@ impl<S: BakeScalar> Baked<S> {
             adaptive: false,
             sampler: Sampler::default(),
             bright: BrightFootprints::blank(),
+            defocus: Defocus::blank(),
         }
     }
 
@@ -181,9 +186,28 @@ impl<S: BakeScalar> Baked<S> {
     pub fn load(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
         let result = self.load_checked(bytes);
         if result.is_err() {
-            *self = Baked::empty();
+            self.clear();
         }
         result
+    }
+
+    /// Empties `self` field by field: `*self = Baked::empty()` built a whole
+    /// second scene on the Cortex-M0's stack before copying it over.
+    fn clear(&mut self) {
+        let scene = &mut self.scene;
+        scene.camera = crate::camera::CameraParams::default();
+        scene.ambient = crate::geometry::vec3::Vec3::ZERO;
+        scene.background = crate::geometry::vec3::Vec3::ZERO;
+        scene.shadows = false;
+        scene.objects.clear();
+        scene.lights.clear();
+        self.camera = Camera::blank();
+        self.cones = LensCones::blank();
+        self.samples = 1;
+        self.adaptive = false;
+        self.sampler = Sampler::default();
+        self.bright = BrightFootprints::blank();
+        self.defocus = Defocus::blank();
     }
 
     fn load_checked(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
@@ -252,6 +276,7 @@ impl<S: BakeScalar> Baked<S> {
         self.adaptive.take(r)?;
         self.sampler.take(r)?;
         self.bright.take(r)?;
+        self.defocus.take(r)?;
         // One cone per object: the cull looks an object's cone up by its index.
         if self.cones.len() != self.scene.objects.len() {
             return Err(BakeError::OutOfRange("lens cones do not match the objects"));
@@ -280,6 +305,7 @@ impl<S: BakeScalar> Baked<S> {
             adaptive: self.adaptive,
             sampler: self.sampler,
             bright: self.bright.clone(),
+            defocus: self.defocus,
         }
     }
 

@@ -94,7 +94,7 @@ pub mod unstable {
     pub use crate::camera::{aperture, lfsr, sampler};
     pub use crate::geometry::{transform, vec3};
     pub use crate::number::film;
-    pub use crate::render::{cull, footprint, progressive};
+    pub use crate::render::{cull, defocus, footprint, progressive};
     pub use crate::scene::{autofocus, shape};
 
     /// `lensray::camera`'s items.

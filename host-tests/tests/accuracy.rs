@@ -142,7 +142,7 @@ fn shade(p: V, n: V, d: V, ka: V, kd: V, ks: V, shine: f64) -> V {
 
 /// The colour along a ray of Program 1, for rays that can only meet the gold
 /// sphere and the floor (the caller picks such pixels), or nothing.
-fn trace_sphere_and_floor(o: V, d: V) -> V {
+fn trace_sphere_and_floor(o: V, d: V, stratum: f64) -> V {
     // Gold sphere: centre (0, -1, -8), radius 1.
     let c = [0.0, -1.0, -8.0];
     let oc = sub(c, o);
@@ -176,11 +176,48 @@ fn trace_sphere_and_floor(o: V, d: V) -> V {
             let q = sub(p, [0.0, -3.0, 0.0]);
             let (x, y) = (q[0], co * q[1] + s * q[2]);
             let dark = ((x / 0.5).floor() + (y / 0.5).floor()) as i64 & 1 == 1;
-            let k = if dark { 0.25 } else { 1.0 };
+            let k = floor_checker(
+                [x, y],
+                [d[0], co * d[1] + s * d[2], -s * d[1] + co * d[2]],
+                stratum * (1.0 - tf * -d[2] / 8.0).abs(),
+            )
+            .unwrap_or(if dark { 0.25 } else { 1.0 });
             shade(p, normal, d, [0.1 * k; 3], [0.0, 0.5 * k, 0.0], [0.0, 0.5, 0.0], 5.0)
         }
         _ => [0.0; 3],
     }
+}
+
+/// The floor's checker (squares of 0.5) averaged over a lens ray's footprint
+/// of radius `w` (docs/scene-format.md, "Adaptive lens sampling"): at object
+/// point `p` with object direction `v` (unit), or `None` inside one square.
+fn floor_checker(p: [f64; 2], v: V, w: f64) -> Option<f64> {
+    let slant = 1.0 / v[2].abs().max(64.0 / 32768.0);
+    let tri = |u: f64| {
+        let m = u - 2.0 * (u / 2.0).floor();
+        if m <= 1.0 {
+            m
+        } else {
+            2.0 - m
+        }
+    };
+    let mut product = 1.0;
+    let mut blurred = false;
+    for k in 0..2 {
+        let u = p[k] / 0.5;
+        let (cell, frac) = (u.floor(), u - u.floor());
+        let along = (v[k].abs() * slant).min(16.0);
+        let (big, small) = if along > 1.0 { (along, 1.0) } else { (1.0, along) };
+        let e = w / 0.5 * (big + 0.375 * small);
+        let mean = if e <= frac.min(1.0 - frac) {
+            1.0
+        } else {
+            blurred = true;
+            (tri(frac + e) - tri(frac - e)) / (2.0 * e)
+        };
+        product *= if cell as i64 & 1 == 1 { -mean } else { mean };
+    }
+    blurred.then_some(0.625 + 0.375 * product)
 }
 
 /// Pixel (`col`, `row`) of Program 1 at 640x480, from SPEC section 3 in f64
@@ -196,10 +233,12 @@ fn program1_pixel(col: u32, row: u32, rays: u32) -> [f64; 3] {
     let focus = scale(film, zf / n);
     let mut lens = PixelSamples::new(Sampler::Stratified, col, row);
     let mut sum = [0.0; 3];
-    for _ in 0..rays {
+    for k in 0..rays {
         let (sx, sy) = lens.next(&Aperture::ROUND);
         let lens = [a * sx as f64 / 32768.0, a * sy as f64 / 32768.0, 0.0];
-        let c = trace_sphere_and_floor(lens, unit(sub(focus, lens)));
+        // The pilot's 16 strata, then 32 (the adaptive render's checks).
+        let stratum = a / if k < 16 { 16f64 } else { 32f64 }.sqrt();
+        let c = trace_sphere_and_floor(lens, unit(sub(focus, lens)), stratum);
         for k in 0..3 {
             sum[k] += c[k];
         }

@@ -305,6 +305,15 @@ impl Kernels for I16F16 {
         let b = 32 - side.to_bits().leading_zeros();
         mul_i32(x.to_bits(), scale.to_bits()) >> (29 + b)
     }
+    #[inline]
+    fn checker_pos(x: Self, side: Self, scale: Self) -> (i64, Self) {
+        let b = 32 - side.to_bits().leading_zeros();
+        let p = mul_i32(x.to_bits(), scale.to_bits());
+        let s = 29 + b;
+        // The 16 bits below the cell index: its Q16.16 fraction.
+        let frac = ((p & ((1i64 << s) - 1)) >> (s - 16)) as i32;
+        (p >> s, I16F16::from_bits(frac))
+    }
     type Row = FixedRow;
     type Acc = i64;
     type Dir = FixedDir;

@@ -121,6 +121,13 @@ impl Kernels for f32 {
     fn checker_cell(x: Self, _side: Self, scale: Self) -> i64 {
         <f32 as Scalar>::mul(x, scale).floor_i32() as i64
     }
+    #[inline]
+    fn checker_pos(x: Self, _side: Self, scale: Self) -> (i64, Self) {
+        let u = <f32 as Scalar>::mul(x, scale);
+        let cell = u.floor_i32();
+        // At most just below 1: f32 rounding of u − floor(u) never reaches it but may.
+        (cell as i64, (u - cell as f32).clamp(0.0, 1.0 - f32::EPSILON / 2.0))
+    }
     type Row = [f32; 4];
     /// f64, so that summing many samples adds no error of its own (the Q16.16
     /// sum is exact in i64): an f32 sum of seventy 0.1s lands below 7 and turns

@@ -101,6 +101,10 @@ mod kernels {
         /// the square side in `Self` and `scale` from [`Kernels::checker_scale`].
         fn checker_cell(x: Self, side: Self, scale: Self) -> i64;
 
+        /// As [`Kernels::checker_cell`], with where `x` lies in its cell: a
+        /// fraction in [0, 1) (the bits below the cell index; box-filtered checkers).
+        fn checker_pos(x: Self, side: Self, scale: Self) -> (i64, Self);
+
         /// One row of an affine matrix, stored more precisely than `Self`
         /// (Q16.16 keeps up to 30 fraction bits; see `Kernels::row_from_f64`).
         type Row: Copy + core::fmt::Debug + Send + Sync;

@@ -9,6 +9,7 @@ use crate::camera::{Camera, CameraSample};
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
 use crate::render::cull::LensCones;
+use crate::render::defocus::Defocus;
 use crate::render::footprint::BrightFootprints;
 use crate::scene::Scene;
 use embedded_graphics_core::draw_target::DrawTarget;
@@ -17,6 +18,7 @@ use embedded_graphics_core::pixelcolor::Rgb888;
 use embedded_graphics_core::primitives::Rectangle;
 
 pub mod cull;
+pub mod defocus;
 pub mod footprint;
 pub mod progressive;
 mod trace;
@@ -36,9 +38,11 @@ pub struct Renderer<'a, S: Scalar> {
     pub(crate) sampler: Sampler,
     /// Pixels a bright object may reach through part of the lens: no early stop.
     pub(crate) bright: BrightFootprints,
+    /// The lens rays' footprints, for box-filtered checkers (stratified sampler).
+    pub(crate) defocus: Defocus<S>,
 }
 
-/// The pilot of `point 64` to 127: one sample in each of 16 equal strata of
+/// The pilot of `point 48` to 95: one sample in each of 16 equal strata of
 /// the lens (see [`crate::camera::sampler`]).
 pub const ADAPTIVE_PILOT: u32 = 16;
 
@@ -52,31 +56,51 @@ pub const ADAPTIVE_MIN_PILOT: u32 = 8;
 pub const ADAPTIVE_MIN_POINT: u32 = 5 * ADAPTIVE_MIN_PILOT / 2;
 
 /// The pilot of a pixel with `samples` lens samples: the largest power of two
-/// at most a quarter of them, and at least [`ADAPTIVE_MIN_PILOT`]. A pixel
-/// that stops after its pilot has seen the lens at a quarter to an eighth of
+/// at most a third of them, and at least [`ADAPTIVE_MIN_PILOT`]. A pixel
+/// that stops after its pilot has seen the lens at a third to a sixth of
 /// the full render's resolution: what reaches it through less of the lens
-/// than one stratum is what the pilot may miss, an error at most √8 times
+/// than one stratum is what the pilot may miss, an error at most √6 times
 /// the standard error `samples` independent samples have on that pixel (a
 /// share f < 1/P of the lens at brightness B: B f against B √(f/samples)).
+/// A quarter (pilot 8 at `point 63`) missed such features on unseen scenes.
 pub fn adaptive_pilot(samples: u32) -> u32 {
-    let quarter = (samples / 4).max(1);
-    (1u32 << (31 - quarter.leading_zeros())).max(ADAPTIVE_MIN_PILOT)
+    let third = (samples / 3).max(1);
+    (1u32 << (31 - third.leading_zeros())).max(ADAPTIVE_MIN_PILOT)
+}
+
+/// The pilot of a pixel a lamp may reach through part of the lens (see
+/// [`BrightFootprints`]): twice [`adaptive_pilot`], so that it sees the lens
+/// at half the full render's resolution, where that stays within 40 % of
+/// `samples` (a pilot above the ray budget everywhere in a frame full of
+/// lamps' footprints would spend more than the budget on every pixel).
+pub fn adaptive_risk_pilot(samples: u32) -> u32 {
+    let budget = (samples.saturating_mul(2) / 5).max(1);
+    let budget = 1u32 << (31 - budget.leading_zeros());
+    adaptive_pilot(samples.saturating_mul(2)).min(budget.max(adaptive_pilot(samples)))
+}
+
+/// The most samples an adaptive pixel away from lamps takes: 40 % of `samples`.
+pub fn adaptive_limit(samples: u32) -> u32 {
+    samples.saturating_mul(2) / 5
 }
 
 /// The variance of an adaptive pixel's mean, in 8-bit levels squared, below
-/// which it stops whatever its samples, in sixteenths (16: one level²).
-const ADAPTIVE_VAR_SIXTEENTHS: u128 = 16;
+/// which it stops whatever its samples, in sixteenths (4: a quarter level²;
+/// at one level², pixels of faint noise stopped at the pilot summed to more
+/// error than `point` independent samples leave).
+const ADAPTIVE_VAR_SIXTEENTHS: u128 = 4;
 
 /// The variance of an adaptive pixel's mean below which it stops, relative
-/// to that of the independent full render (s²/`point`), in sixteenths (32:
-/// twice it; the quarters' estimate overstates a stratified mean's variance).
-const ADAPTIVE_REL_SIXTEENTHS: u128 = 32;
+/// to that of the independent full render (s²/`point`), in sixteenths (16:
+/// the same; twice it let pilots of 8 stop at 1.5 times the independent
+/// render's error on unseen scenes).
+const ADAPTIVE_REL_SIXTEENTHS: u128 = 16;
 
 /// How many times lower than the independent estimate s²/n the stratified
 /// samples' variance is believed at most: the safety margin that makes a
 /// pixel with much contrast among its samples go on even when its quarters
 /// agree by chance.
-const ADAPTIVE_MAX_GAIN: u128 = 32;
+const ADAPTIVE_MAX_GAIN: u128 = 8;
 
 /// Running sums of a pixel's samples in 8-bit levels (unclamped: a lamp
 /// brighter than white weighs what it adds to the mean), per channel, in
@@ -85,8 +109,13 @@ const ADAPTIVE_MAX_GAIN: u128 = 32;
 /// the sequence).
 #[derive(Default)]
 struct LevelStats {
-    quarter: [[u64; 3]; 4],
+    /// At most 2¹⁵ samples below 2¹⁶ levels each: a u32 holds them (and
+    /// leaves the Cortex-M0's stack the room of the flag below).
+    quarter: [[u32; 3]; 4],
     sum_sq: [u64; 3],
+    /// Bit 0: a sample came out brighter than twice white (a lamp in view);
+    /// bit 1: a sample did not. Both: a lamp through part of the lens.
+    lamp: u8,
 }
 
 impl LevelStats {
@@ -96,8 +125,10 @@ impl LevelStats {
         // check is a power of two: k / (check / 4) by a shift (no divide on the M0).
         let shift = check.trailing_zeros().saturating_sub(2);
         let q = (k >> shift).min(3) as usize;
-        for (i, l) in [level(c.x), level(c.y), level(c.z)].into_iter().enumerate() {
-            self.quarter[q][i] += l as u64;
+        let levels = [level(c.x), level(c.y), level(c.z)];
+        self.lamp |= if levels.iter().any(|&l| l > 510) { 1 } else { 2 };
+        for (i, l) in levels.into_iter().enumerate() {
+            self.quarter[q][i] += l;
             // l < 2¹⁶: the square fits a u32 (no 64-bit multiply on the M0).
             self.sum_sq[i] += (l * l) as u64;
         }
@@ -164,6 +195,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             samples: scene.camera.samples.max(1),
             adaptive: scene.camera.adaptive,
             sampler: scene.camera.sampler,
+            defocus: Defocus::new(scene),
         }
     }
 
@@ -240,10 +272,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     ///
     /// With adaptive sampling (and at least [`ADAPTIVE_MIN_POINT`] samples) a
     /// pixel takes a pilot of [`adaptive_pilot`] lens samples (twice that in
-    /// a lamp's footprint, see [`BrightFootprints`]), then at every
-    /// power of two asks whether its mean is settled (see the scene format's
-    /// "Adaptive lens sampling"), and stops there; else it goes on, up to all
-    /// the samples. The samples taken are the first ones of the full render.
+    /// a lamp's footprint, see [`BrightFootprints`] and
+    /// [`adaptive_risk_pilot`]), then at every power of two asks whether its
+    /// mean is settled (see the scene format's "Adaptive lens sampling"), and
+    /// stops there; else it goes on, up to [`adaptive_limit`] samples. The
+    /// samples taken are the first ones of the full render. With the
+    /// stratified sampler, a ray that meets a checker averages it over its
+    /// stratum's footprint (see [`Defocus`]): one of `check` strata while the
+    /// pixel is adaptive, else of the largest power of two within the samples.
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
         let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
@@ -251,7 +287,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 film: &film,
                 lens: None,
             });
-            return (self.scene.trace_camera_ray(&ray, &self.cones), 1);
+            return (self.scene.trace_lens_ray(&ray, &self.cones, None), 1);
         }
         // The pixel's own samples: independent of row order and threads.
         let mut lens = PixelSamples::new(self.sampler, col, row);
@@ -260,18 +296,42 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let adaptive = self.adaptive && self.samples >= ADAPTIVE_MIN_POINT;
         // Where a lamp may shine through part of the lens, a pilot at half the
         // full render's resolution of the lens.
-        let mut check = if self.bright.at_risk(col, row) {
-            adaptive_pilot(self.samples.saturating_mul(2))
+        let risk = self.bright.at_risk(col, row);
+        let mut check = if risk {
+            adaptive_risk_pilot(self.samples)
         } else {
             adaptive_pilot(self.samples)
         };
+        // A pixel that is not settled stops at 40 % of the samples
+        // (stratified, box-filtered samples there beat `samples` independent
+        // ones), unless a lamp's footprint covers it and some of its samples
+        // saw the lamp and some did not: a bright light through part of the lens.
+        let cap = if adaptive {
+            adaptive_limit(self.samples).max(check)
+        } else {
+            self.samples
+        };
+        let mut limit = cap;
         let mut n = 0;
-        while n < self.samples {
+        // Stratified rays stand for a stratum each: with adaptive sampling,
+        // one of the `check` strata the samples so far divide the lens into;
+        // else one of the largest power of two within `samples` (the check
+        // of a pixel that is not adaptive; no more locals: the M0's stack).
+        if !adaptive {
+            check = 1u32 << (31 - self.samples.leading_zeros());
+        }
+        while n < limit {
             let ray = self.camera.generate_ray(&CameraSample {
                 film: &film,
                 lens: Some(lens.next(self.camera.aperture())),
             });
-            let c = self.scene.trace_camera_ray(&ray, &self.cones);
+            // One call site for both samplers: two inlined copies of the trace
+            // took 4 KiB more stack on the Cortex-M0.
+            let footprint = (self.sampler == Sampler::Stratified).then(|| {
+                let strata = check.min(1u32 << (31 - self.samples.leading_zeros()));
+                (&self.defocus, self.defocus.stratum(strata))
+            });
+            let c = self.scene.trace_lens_ray(&ray, &self.cones, footprint);
             acc = [
                 S::acc_add(acc[0], c.x),
                 S::acc_add(acc[1], c.y),
@@ -284,6 +344,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             if adaptive && n == check && n < self.samples {
                 if stats.settled(n, self.samples) {
                     break;
+                }
+                // Only where the cap leaves room beyond the pilot (point 25 up).
+                if risk && check < cap && stats.lamp == 3 {
+                    limit = self.samples;
                 }
                 stats.double();
                 check = check.saturating_mul(2);

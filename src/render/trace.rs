@@ -6,6 +6,7 @@ use crate::geometry::ray::Ray;
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
 use crate::render::cull::LensCones;
+use crate::render::defocus::Defocus;
 use crate::scene::shape::Shape;
 use crate::scene::{Hit, Scene};
 
@@ -82,17 +83,32 @@ impl<S: Scalar> Scene<S> {
     /// As [`Scene::trace`], with the ray's direction also held precisely
     /// (any length): the camera's rays, see [`Ray`].
     pub fn trace_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir) -> Vec3<S> {
-        self.trace_culled(o, d, precise, None)
+        self.trace_culled(o, d, precise, None, None)
     }
 
     /// The colour seen along a camera ray (which leaves the lens: see
     /// [`LensCones`]), unclamped: [`Scene::trace_dir`] with the objects out
     /// of the ray's reach skipped.
     pub fn trace_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Vec3<S> {
-        self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones))
+        self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones), None)
     }
 
-    fn trace_culled(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, cones: Option<&LensCones<S>>) -> Vec3<S> {
+    /// As [`Scene::trace_camera_ray`], for a ray standing for a stratum of
+    /// the lens where `footprint` is given (the camera's defocus and the
+    /// stratum's radius from [`Defocus::stratum`]): a checker it meets is
+    /// averaged over the stratum's footprint there (see [`Defocus`]).
+    pub fn trace_lens_ray(&self, ray: &Ray<S>, cones: &LensCones<S>, footprint: Option<(&Defocus<S>, S)>) -> Vec3<S> {
+        self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones), footprint)
+    }
+
+    fn trace_culled(
+        &self,
+        o: Vec3<S>,
+        d: Vec3<S>,
+        precise: S::Dir,
+        cones: Option<&LensCones<S>>,
+        footprint: Option<(&Defocus<S>, S)>,
+    ) -> Vec3<S> {
         let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::HIT_EPSILON, cones) else {
             return self.background;
         };
@@ -106,7 +122,15 @@ impl<S: Scalar> Scene<S> {
         let own = (S::SHADOW_SKIPS_OWN_CONVEX && (outside || obj.shape == Shape::Plane)).then_some(i);
         let v = -d;
         let m = &obj.material;
-        let (ka, kd) = if obj.in_dark_square(&hit) {
+        let filtered = match footprint {
+            Some((defocus, stratum)) if obj.texture > S::ZERO && stratum > S::ZERO => {
+                obj.checker_filtered(&hit, d, defocus.width(d, hit.t, stratum))
+            }
+            _ => None,
+        };
+        let (ka, kd) = if let Some(f) = filtered {
+            (m.ka * f, m.kd * f)
+        } else if obj.in_dark_square(&hit) {
             let q = S::from_q15(8192);
             (m.ka * q, m.kd * q)
         } else {
