@@ -132,4 +132,6 @@ mod layout_tests;
 #[cfg(test)]
 mod range_tests;
 #[cfg(test)]
+mod test_rng;
+#[cfg(test)]
 mod tests;

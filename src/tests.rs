@@ -260,13 +260,7 @@ fn parse_and_bake_errors_are_core_errors() {
 fn checker_cells_are_the_exact_floor_of_x_over_the_side() {
     // Against floor(x / side) in f64 for the exact side: Q16.16's cell may differ
     // only where x lies within 2^-28 relative of a border (the held reciprocal).
-    let mut seed = 0x2545_F491u32;
-    let mut next = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 17;
-        seed ^= seed << 5;
-        seed
-    };
+    let mut next = crate::test_rng::xorshift32(0x2545_F491);
     for side in [0.3, 0.5181, 1.0, 2.0, 2.5, 6.4387, 9.0, 100.0] {
         let (held, scale) = (
             I16F16::from_num(side),

@@ -211,13 +211,7 @@ mod tests {
 
     #[test]
     fn unit_directions_match_the_exact_ones() {
-        let mut seed = 0x9E37_79B9u32;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed
-        };
+        let mut next = crate::test_rng::xorshift32(0x9E37_79B9);
         for (c, d) in cameras().enumerate() {
             let ordinary = c == 0;
             let map = FixedFilmMap::new(&d);

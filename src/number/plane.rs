@@ -244,13 +244,7 @@ mod tests {
     /// the distance at 32767 gives the square there: right half the time.
     #[test]
     fn far_hits_keep_their_checker_parity() {
-        let mut seed = 0x2545_F491u32;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f64 / u32::MAX as f64
-        };
+        let mut next = crate::test_rng::unit_f64(0x2545_F491);
         let (mut far, mut right) = (0, 0);
         for _ in 0..4000 {
             // A floor at height h, turned about y and scaled in its own plane.
@@ -312,13 +306,7 @@ mod tests {
     /// 2^-17 / (row_z · D): 1e-3 at a slope of 0.004 (seed 3162).
     #[test]
     fn grazing_hits_take_the_exact_origin() {
-        let mut seed = 0x1234_5678u32;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f64 / u32::MAX as f64
-        };
+        let mut next = crate::test_rng::unit_f64(0x1234_5678);
         let mut tested = 0;
         for _ in 0..4000 {
             let (h, s) = (next() * 60.0 - 30.0, 0.3 + next() * 4.0);

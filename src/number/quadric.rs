@@ -129,13 +129,8 @@ mod tests {
 
     #[test]
     fn side_roots_match_f64() {
-        let mut seed = 0x1234_5678u32;
-        let mut rnd = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f64 / u32::MAX as f64 * 2.0 - 1.0
-        };
+        let mut unit = crate::test_rng::unit_f64(0x1234_5678);
+        let mut rnd = || unit() * 2.0 - 1.0;
         let q = |x: f64| I16F16::from_num(x);
         let mut checked = 0;
         for i in 0..20000 {

@@ -122,13 +122,8 @@ mod tests {
         let eye = [0.5, -0.25, 1.0];
         let radius = 0.4;
         let cones = LensCones::new(&scene, eye, radius);
-        let mut seed = 0x1234_5678u32;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            (seed >> 8) as f64 / (1u32 << 24) as f64 * 2.0 - 1.0
-        };
+        let mut bits = crate::test_rng::xorshift32(0x1234_5678);
+        let mut next = move || (bits() >> 8) as f64 / (1u32 << 24) as f64 * 2.0 - 1.0;
         let (mut culled, mut near_misses) = (0, 0);
         for _ in 0..50_000 {
             // A lens point within the radius (in the lens plane z = 1) and a direction ahead.
