@@ -298,7 +298,10 @@ fn microbit_renders_bit_for_bit_in_16k_of_ram() {
     // Issue 15: Program 1's pinhole count no worse than before (6,889 instructions
     // a pixel); exact under -icount, so no wall clock is involved.
     let pinhole = outcomes[3].get("per_pixel");
-    assert!(pinhole <= 6889, "Program 1 pinhole takes {pinhole} instructions a pixel");
+    assert!(
+        pinhole <= 6889,
+        "Program 1 pinhole takes {pinhole} instructions a pixel"
+    );
     assert_eq!(outcomes[3].get("rays"), 1);
     // Program 1 at 4 rays per pixel against one ray per pixel of the pinhole scene.
     assert_eq!(outcomes[0].get("rays"), 4);

@@ -56,7 +56,10 @@ impl<S: Scalar> Vec3<S> {
     /// Dot product (saturating).
     #[inline(always)]
     pub fn dot(self, o: Self) -> S {
-        self.x.mul_inline(o.x).add(self.y.mul_inline(o.y)).add(self.z.mul_inline(o.z))
+        self.x
+            .mul_inline(o.x)
+            .add(self.y.mul_inline(o.y))
+            .add(self.z.mul_inline(o.z))
     }
 
     /// Component-wise product (colours).
