@@ -134,6 +134,8 @@ impl HostFile {
     }
 
     /// Writes `n` in decimal.
+    // Once, not at each of the report's call sites (opt-level 3 copied it).
+    #[inline(never)]
     pub fn num(&mut self, n: u64) -> &mut HostFile {
         // Digits by subtracting powers of ten: a u64 division by 10 is about
         // a kilobyte of multiply-high code on the Cortex-M0.

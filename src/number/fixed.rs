@@ -278,7 +278,10 @@ fn unit_of_exact(mut d: FixedDir) -> ([I16F16; 3], I16F16, I16F16) {
 }
 
 impl Kernels for I16F16 {
-    #[inline(always)]
+    // Forced only on the M0, where the product is short (`mul_q16_small`) and a
+    // call is dear; elsewhere the compiler's choice, as for `mul`.
+    #[cfg_attr(lensray_v6m, inline(always))]
+    #[cfg_attr(not(lensray_v6m), inline)]
     fn mul_inline(self, o: Self) -> Self {
         let (a, b) = (self.to_bits(), o.to_bits());
         #[cfg(lensray_v6m)]
