@@ -181,9 +181,16 @@ impl<S: BakeScalar> Baked<S> {
     pub fn load(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
         let result = self.load_checked(bytes);
         if result.is_err() {
-            *self = Baked::empty();
+            self.clear();
         }
         result
+    }
+
+    /// Empties `self` after a failed load; out of line, so the empty scene
+    /// built on the stack is in no frame but this one (Cortex-M0 at "s").
+    #[inline(never)]
+    fn clear(&mut self) {
+        *self = Baked::empty();
     }
 
     fn load_checked(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
