@@ -192,7 +192,9 @@ impl<S: BakeScalar> Baked<S> {
     }
 
     /// Empties `self` field by field: `*self = Baked::empty()` built a whole
-    /// second scene on the Cortex-M0's stack before copying it over.
+    /// second scene on the Cortex-M0's stack before copying it over; out of
+    /// line, so no caller's frame grows by it.
+    #[inline(never)]
     fn clear(&mut self) {
         let scene = &mut self.scene;
         scene.camera = crate::camera::CameraParams::default();

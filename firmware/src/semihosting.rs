@@ -134,19 +134,26 @@ impl HostFile {
     }
 
     /// Writes `n` in decimal.
+    // Once, not at each of the report's call sites (opt-level 3 copied it).
+    #[inline(never)]
     pub fn num(&mut self, n: u64) -> &mut HostFile {
+        // Digits by subtracting powers of ten: a u64 division by 10 is about
+        // a kilobyte of multiply-high code on the Cortex-M0.
         let mut buf = [0u8; 20];
-        let mut i = buf.len();
-        let mut n = n;
-        loop {
-            i -= 1;
-            buf[i] = b'0' + (n % 10) as u8;
-            n /= 10;
-            if n == 0 {
-                break;
+        let (mut n, mut len, mut p) = (n, 0, 10_000_000_000_000_000_000u64);
+        while p > 0 {
+            let mut d = b'0';
+            while n >= p {
+                n -= p;
+                d += 1;
             }
+            if d > b'0' || len > 0 || p == 1 {
+                buf[len] = d;
+                len += 1;
+            }
+            p = next_power_down(p);
         }
-        let _ = self.write_all(&buf[i..]);
+        let _ = self.write_all(&buf[..len]);
         self
     }
 
@@ -165,5 +172,19 @@ impl HostFile {
 impl fmt::Write for HostFile {
     fn write_str(&mut self, s: &str) -> fmt::Result {
         self.write_all(s.as_bytes()).map_err(|_| fmt::Error)
+    }
+}
+
+/// The power of ten below `p` (a power of ten), 0 below 1, without a division.
+fn next_power_down(p: u64) -> u64 {
+    let mut q = 1u64;
+    // q * 10 <= p / 10 ... found by multiplying up: at most 19 steps.
+    while q < p && q.saturating_mul(10) < p {
+        q *= 10;
+    }
+    if q < p {
+        q
+    } else {
+        0
     }
 }

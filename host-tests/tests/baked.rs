@@ -236,3 +236,29 @@ fn intact_files_with_nonsense_values_never_panic() {
         "f32: {refused} refused, {rendered} rendered"
     );
 }
+
+/// A refused file leaves the scene exactly as `Baked::empty()`, even after a
+/// good load and a refusal halfway through the payload (`Baked::clear`).
+#[test]
+fn a_refused_file_leaves_an_empty_scene() {
+    let good = sample_bake();
+    let empty = format!("{:?}", Baked::<I16F16>::empty());
+    let mut rng = Rng::new(15);
+    let payload = HEADER_LEN..good.len() - 4;
+    let mut refused = 0;
+    for _ in 0..400 {
+        let mut bad = good.clone();
+        let i = payload.start + rng.below(payload.len());
+        bad[i] = rng.next_u64() as u8;
+        rechecksum(&mut bad);
+        let mut loaded = Baked::<I16F16>::empty();
+        loaded.load(&good).unwrap();
+        assert_ne!(format!("{loaded:?}"), empty);
+        if loaded.load(&bad).is_err() {
+            refused += 1;
+            assert_eq!(format!("{loaded:?}"), empty, "byte {i} = {:#04x}", bad[i]);
+        }
+    }
+    // Enough refusals past the header that the reset is exercised.
+    assert!(refused >= 20, "only {refused} refused");
+}

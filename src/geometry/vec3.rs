@@ -56,13 +56,16 @@ impl<S: Scalar> Vec3<S> {
     /// Dot product (saturating).
     #[inline(always)]
     pub fn dot(self, o: Self) -> S {
-        self.x.mul(o.x).add(self.y.mul(o.y)).add(self.z.mul(o.z))
+        self.x
+            .mul_inline(o.x)
+            .add(self.y.mul_inline(o.y))
+            .add(self.z.mul_inline(o.z))
     }
 
     /// Component-wise product (colours).
     #[inline(always)]
     pub fn hadamard(self, o: Self) -> Self {
-        Vec3::new(self.x.mul(o.x), self.y.mul(o.y), self.z.mul(o.z))
+        Vec3::new(self.x.mul_inline(o.x), self.y.mul_inline(o.y), self.z.mul_inline(o.z))
     }
 
     /// Unit vector along `self` and the length of `self`; zero stays zero.
@@ -113,7 +116,7 @@ impl<S: Scalar> Mul<S> for Vec3<S> {
     type Output = Self;
     #[inline]
     fn mul(self, k: S) -> Self {
-        Vec3::new(self.x.mul(k), self.y.mul(k), self.z.mul(k))
+        Vec3::new(self.x.mul_inline(k), self.y.mul_inline(k), self.z.mul_inline(k))
     }
 }
 

@@ -156,23 +156,18 @@ impl Scalar for I16F16 {
     fn from_q15(i: i32) -> Self {
         I16F16::from_bits(sat32((i as i64) << 1))
     }
-    #[inline]
+    #[inline(always)]
     fn add(self, o: Self) -> Self {
         self.saturating_add(o)
     }
-    #[inline]
+    #[inline(always)]
     fn sub(self, o: Self) -> Self {
         self.saturating_sub(o)
     }
     #[inline]
     fn mul(self, o: Self) -> Self {
-        let (a, b) = (self.to_bits(), o.to_bits());
         // Colours, unit vectors and their dot products stay below 1: one MULS on the M0.
-        #[cfg(lensray_v6m)]
-        if let Some(q) = mul_q16_small(a, b) {
-            return I16F16::from_bits(q);
-        }
-        I16F16::from_bits(mul_q16_wide(a, b))
+        self.mul_inline(o)
     }
     #[inline]
     fn div(self, o: Self) -> Self {
@@ -191,7 +186,7 @@ impl Scalar for I16F16 {
         let q = if (a < 0) != (b < 0) { -q } else { q };
         I16F16::from_bits(sat32(q))
     }
-    #[inline]
+    #[inline(always)]
     fn neg(self) -> Self {
         self.saturating_neg()
     }
@@ -283,6 +278,18 @@ fn unit_of_exact(mut d: FixedDir) -> ([I16F16; 3], I16F16, I16F16) {
 }
 
 impl Kernels for I16F16 {
+    // Forced only on the M0, where the product is short (`mul_q16_small`) and a
+    // call is dear; elsewhere the compiler's choice, as for `mul`.
+    #[cfg_attr(lensray_v6m, inline(always))]
+    #[cfg_attr(not(lensray_v6m), inline)]
+    fn mul_inline(self, o: Self) -> Self {
+        let (a, b) = (self.to_bits(), o.to_bits());
+        #[cfg(lensray_v6m)]
+        if let Some(q) = mul_q16_small(a, b) {
+            return I16F16::from_bits(q);
+        }
+        I16F16::from_bits(mul_q16_wide(a, b))
+    }
     const SHADOW_SKIPS_OWN_CONVEX: bool = true;
     const SHADOW_PRECISE_DIR: bool = true;
     fn checker_scale(side: f64) -> Self {

@@ -112,6 +112,10 @@ impl Scalar for f32 {
 }
 
 impl Kernels for f32 {
+    #[inline(always)]
+    fn mul_inline(self, o: Self) -> Self {
+        self * o
+    }
     const SHADOW_SKIPS_OWN_CONVEX: bool = false;
     const SHADOW_PRECISE_DIR: bool = false;
     fn checker_scale(side: f64) -> Self {

@@ -13,20 +13,26 @@ use crate::number::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64,
 use fixed::types::I16F16;
 
 /// Bits needed for `x` (0 for 0).
-#[inline]
+// In place on the M0 (a call costs more than the body there); a hint elsewhere.
+#[cfg_attr(lensray_v6m, inline(always))]
+#[cfg_attr(not(lensray_v6m), inline)]
 fn bits(x: u64) -> u32 {
     bits_u64(x)
 }
 
 /// `row · m` exactly, at scale `2^-(30 + row.shift)` for mantissas at `2^-30`.
-#[inline]
+// In place on the M0 (a call costs more than the body there); a hint elsewhere.
+#[cfg_attr(lensray_v6m, inline(always))]
+#[cfg_attr(not(lensray_v6m), inline)]
 fn dot(row: &FixedRow, m: &[i64; 3]) -> i64 {
     // 30-bit entries times 30-bit mantissas: i32 factors, each product below 2^60.
     mul_i32(row.m[0], m[0] as i32) + mul_i32(row.m[1], m[1] as i32) + mul_i32(row.m[2], m[2] as i32)
 }
 
 /// `x` cut to at most 31 bits: `(x', k)` with `x ≈ x' · 2^k`, rounded.
-#[inline]
+// In place on the M0 (a call costs more than the body there); a hint elsewhere.
+#[cfg_attr(lensray_v6m, inline(always))]
+#[cfg_attr(not(lensray_v6m), inline)]
 fn cut31(x: i64) -> (i64, u32) {
     let k = bits(x.unsigned_abs()).saturating_sub(31);
     if k == 0 {

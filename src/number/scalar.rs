@@ -82,6 +82,9 @@ mod kernels {
     /// the film map and the plane, accumulators. Sealed (its module is private),
     /// so it can change without breaking the public trait.
     pub trait Kernels: Copy + Sized {
+        /// `Scalar::mul` expanded in place: for the vector operators on the
+        /// per-ray path (a call there costs more than the product on the M0).
+        fn mul_inline(self, o: Self) -> Self;
         /// Whether a shadow ray leaving the lit side of a convex object skips
         /// that object: Q16.16's absolute rounding at a large object's magnitude
         /// outgrows any fixed offset (f32's relative rounding does not; its
