@@ -166,8 +166,13 @@ pub(crate) fn plane_hit(
     // Q16.16 moved a grazing hit by 2^-17 / (row_z · D), 1e-3 at 33 (seed
     // 3162: the seam of two planes a pixel off).
     let z = rows[2].exact(o, true);
-    let k = bits(z.unsigned_abs()).saturating_sub(32);
-    let oz = if k == 0 { z } else { shr_round(z, k) };
+    // Most origins fit 32 bits: no bit count then (a binary search on the M0).
+    let (oz, k) = if z.unsigned_abs() >> 32 == 0 {
+        (z, 0)
+    } else {
+        let k = bits(z.unsigned_abs()) - 32;
+        (shr_round(z, k), k)
+    };
     // A hit beyond Q16.16's range is drawn at its edge, not dropped: f32
     // draws it, and only the direction of a point that far matters (and its
     // texture: see [`far_xy`]).
