@@ -58,7 +58,8 @@ fn ratio(n: i64, den: i64, e: u32) -> i64 {
     }
     let e = e.max(0) as u32;
     // A numerator of 2^62 or more over a divisor below 2^32 saturates.
-    let q = if bits(nu) + e > 62 {
+    // bits(nu) + e > 62, without a bit count (a binary search on the M0).
+    let q = if e > 62 || sar64(nu as i64, 62 - e) != 0 {
         i32::MAX as u64 + 1
     } else {
         let num = nu << e;
