@@ -9,7 +9,7 @@
 //! in an i64; grazing hits far away keep their precision.
 
 use crate::number::q16::{shr_round, FixedDir, FixedRow};
-use crate::number::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u64, sar64};
+use crate::number::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u32, sar64};
 use fixed::types::I16F16;
 
 /// Bits needed for `x` (0 for 0).
@@ -108,9 +108,10 @@ pub(crate) fn unit_mantissas(d: [i64; 3]) -> Option<[i64; 3]> {
     // 32 bits where l > 2^29 (callers scale their vectors up to make it so).
     Some(if l > 1 << 29 {
         // l < 2^32 (sq < 2^64) and the quotient fits 32 bits: the fast division.
-        let recip = div_rem_u64_u32(1 << 61, l as u32).0;
+        let recip = div_rem_u64_u32(1 << 61, l as u32).0 as u32;
         d.map(|x| {
-            let q = ((mul_u64(x.unsigned_abs(), recip) + (1 << 30)) >> 31) as i64;
+            // |x| <= l < 2^32: one 32 x 32-bit product.
+            let q = ((mul_u32(x.unsigned_abs() as u32, recip) + (1 << 30)) >> 31) as i64;
             if x < 0 {
                 -q
             } else {
