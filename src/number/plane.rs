@@ -9,7 +9,7 @@
 //! in an i64; grazing hits far away keep their precision.
 
 use crate::number::q16::{shr_round, FixedDir, FixedRow};
-use crate::number::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u64, sar64};
+use crate::number::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u32, sar64};
 use fixed::types::I16F16;
 
 /// Bits needed for `x` (0 for 0).
@@ -58,7 +58,7 @@ fn ratio(n: i64, den: i64, e: u32) -> i64 {
     }
     let e = e.max(0) as u32;
     // A numerator of 2^62 or more over a divisor below 2^32 saturates.
-    let q = if bits(nu) + e > 62 {
+    let q = if saturates(nu, e) {
         i32::MAX as u64 + 1
     } else {
         let num = nu << e;
@@ -71,6 +71,13 @@ fn ratio(n: i64, den: i64, e: u32) -> i64 {
     } else {
         q
     }
+}
+
+/// Whether `nu · 2^e` reaches 2^62 (`bits(nu) + e > 62`), without a bit
+/// count (a binary search on the M0): `nu >= 2^(62 - e)`.
+#[inline(always)]
+fn saturates(nu: u64, e: u32) -> bool {
+    e > 62 || sar64(nu as i64, 62 - e) != 0
 }
 
 /// `t · l / 2^e` rounded to nearest, for `|t| < 2^31`, `|l| < 2^62`, `e <= 62`.
@@ -107,9 +114,10 @@ pub(crate) fn unit_mantissas(d: [i64; 3]) -> Option<[i64; 3]> {
     // 32 bits where l > 2^29 (callers scale their vectors up to make it so).
     Some(if l > 1 << 29 {
         // l < 2^32 (sq < 2^64) and the quotient fits 32 bits: the fast division.
-        let recip = div_rem_u64_u32(1 << 61, l as u32).0;
+        let recip = div_rem_u64_u32(1 << 61, l as u32).0 as u32;
         d.map(|x| {
-            let q = ((mul_u64(x.unsigned_abs(), recip) + (1 << 30)) >> 31) as i64;
+            // |x| <= l < 2^32: one 32 x 32-bit product.
+            let q = ((mul_u32(x.unsigned_abs() as u32, recip) + (1 << 30)) >> 31) as i64;
             if x < 0 {
                 -q
             } else {
@@ -166,8 +174,13 @@ pub(crate) fn plane_hit(
     // Q16.16 moved a grazing hit by 2^-17 / (row_z · D), 1e-3 at 33 (seed
     // 3162: the seam of two planes a pixel off).
     let z = rows[2].exact(o, true);
-    let k = bits(z.unsigned_abs()).saturating_sub(32);
-    let oz = if k == 0 { z } else { shr_round(z, k) };
+    // Most origins fit 32 bits: no bit count then (a binary search on the M0).
+    let (oz, k) = if z.unsigned_abs() >> 32 == 0 {
+        (z, 0)
+    } else {
+        let k = bits(z.unsigned_abs()) - 32;
+        (shr_round(z, k), k)
+    };
     // A hit beyond Q16.16's range is drawn at its edge, not dropped: f32
     // draws it, and only the direction of a point that far matters (and its
     // texture: see [`far_xy`]).
@@ -242,6 +255,59 @@ mod tests {
     use super::*;
     use crate::geometry::transform::Mat34;
     use crate::number::{Kernels, Scalar};
+
+    /// [`saturates`] agrees with the bit count it replaces, at every exponent
+    /// and around every power of two as well as at random.
+    #[test]
+    fn saturation_test_is_the_bit_count() {
+        let mut next = crate::test_rng::xorshift32(0x5EED_0062);
+        for e in 0..=70u32 {
+            for b in 0..64u32 {
+                let p = 1u64 << b;
+                let r = ((next() as u64) << 32 | next() as u64) >> (63 - b);
+                for nu in [p - 1, p, p + 1, r, u64::MAX >> (63 - b)] {
+                    assert_eq!(saturates(nu, e), bits(nu) + e > 62, "nu {nu} e {e}");
+                }
+            }
+        }
+    }
+
+    /// [`unit_mantissas`]' 32 x 32-bit products lose nothing: each component
+    /// against the same rounding of |x| 2^61 / l in u128, l the exact integer
+    /// square root, for directions whose largest component is in [2^30, 2^31)
+    /// (its callers' promise), random and at the extremes.
+    #[test]
+    fn unit_mantissas_match_wide_arithmetic() {
+        let mut next = crate::test_rng::xorshift32(0x0417_2026);
+        let mut cases: Vec<[i64; 3]> = vec![
+            [(1 << 31) - 1, (1 << 31) - 1, (1 << 31) - 1],
+            [-(1 << 31) + 1, (1 << 31) - 1, -(1 << 31) + 1],
+            [1 << 30, 0, 0],
+            [0, -(1 << 30), 1],
+        ];
+        for _ in 0..20_000 {
+            let big = ((1i64 << 30) + (next() as i64 & ((1 << 30) - 1))) * if next() & 1 == 0 { 1 } else { -1 };
+            let other = |n: u32| (n as i32 >> (n & 31)) as i64 % (1 << 31);
+            let mut d = [big, other(next()), other(next())];
+            d.rotate_left((next() % 3) as usize);
+            cases.push(d);
+        }
+        for d in cases {
+            let sq: u64 = d.iter().map(|&x| (x * x) as u64).sum();
+            let l = sq.isqrt();
+            assert!(l > 1 << 29, "{d:?}");
+            let recip = (1u128 << 61) / l as u128;
+            let want = d.map(|x| {
+                let q = ((x.unsigned_abs() as u128 * recip + (1 << 30)) >> 31) as i64;
+                if x < 0 {
+                    -q
+                } else {
+                    q
+                }
+            });
+            assert_eq!(unit_mantissas(d), Some(want), "{d:?}");
+        }
+    }
 
     /// A checkered plane's hits beyond Q16.16's range keep their true square:
     /// the parity of [`plane_hit`]'s (x, y) under `Kernels::checker_cell`

@@ -34,7 +34,8 @@ impl FixedRow {
     }
 
     /// `row · v` (plus the translation when `affine`) exactly, at scale `2^-(16 + shift)`.
-    #[inline]
+    #[cfg_attr(lensray_v6m, inline(always))]
+    #[cfg_attr(not(lensray_v6m), inline)]
     pub(crate) fn exact(&self, v: [I16F16; 3], affine: bool) -> i64 {
         let row = self;
         // Each product <= 2^61 and t <= 2^60: the sum stays below 2^63: no overflow.
