@@ -84,18 +84,24 @@ fn run_time_seeds(count: u64) -> Vec<u64> {
     (0..count).map(|i| (t ^ (i << 40)) % 1_000_000).collect()
 }
 
-/// The floors on generated lens scenes of seeds chosen at run time, at
-/// 80x60 against references of 512 samples (the campaign example measures
-/// many more, larger). The ray floor holds on every scene by construction
-/// and is asserted on each; the PSNR floor is not met on every generated
-/// scene (see BENCHMARKS.md, "The scene generator's lens scenes": frames of
-/// noise-like shading where 8 stratified samples stay under 21 independent
-/// ones): each run allows one of its six scenes to fall short, by less than
-/// 1.5 dB.
+/// The floors on generated lens scenes, at 80x60 against references of 512
+/// samples (the campaign example measures many more, larger): seeds 400 to
+/// 411 (`LENSRAY_SEEDS` for others), a block never tuned on, taken whole
+/// before it was measured. Each judged scene must meet both floors. Fixed
+/// seeds, not drawn from the clock: the PSNR floor is not met on every
+/// generated scene (BENCHMARKS.md, "The scene generator's lens scenes": about
+/// one in twenty-five, noise-like frames where 40 % of `point` stratified
+/// stays under `point` independent), so a run-time draw would fail now and
+/// then; the campaign command is where new seeds are tried.
 #[test]
 fn generated_lens_scenes_meet_the_floors() {
     let mut short = Vec::new();
-    for seed in run_time_seeds(6) {
+    let seeds = match std::env::var("LENSRAY_SEEDS") {
+        Ok(_) => run_time_seeds(0),
+        Err(_) => (400..412).collect(),
+    };
+    let mut judged = 0;
+    for seed in seeds {
         let text = lensray_testkit::scenegen::generate_lens(seed);
         let point = Scene::<f32>::parse(&text).unwrap().camera.samples;
         if point < ADAPTIVE_MIN_POINT {
@@ -120,11 +126,10 @@ fn generated_lens_scenes_meet_the_floors() {
         if def.psnr < ind.psnr && def.psnr < 60.0 {
             short.push((seed, ind.psnr - def.psnr));
         }
+        judged += 1;
     }
-    assert!(
-        short.len() <= 1 && short.iter().all(|&(_, d)| d < 1.5),
-        "PSNR floor missed (seed, dB short): {short:?}"
-    );
+    assert!(judged >= 5, "only {judged} scenes with point >= {ADAPTIVE_MIN_POINT}");
+    assert!(short.is_empty(), "PSNR floor missed (seed, dB short): {short:?}");
 }
 
 #[test]
