@@ -317,9 +317,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // one of the `check` strata the samples so far divide the lens into;
         // else one of the largest power of two within `samples` (the check
         // of a pixel that is not adaptive; no more locals: the M0's stack).
+        let full = 1u32 << (31 - self.samples.leading_zeros());
         if !adaptive {
-            check = 1u32 << (31 - self.samples.leading_zeros());
+            check = full;
         }
+        // The stratum's footprint changes with `check` only: set per doubling, not per ray.
+        let stratified = self.sampler == Sampler::Stratified;
+        let mut stratum = self.defocus.stratum(check.min(full));
         while n < limit {
             let ray = self.camera.generate_ray(&CameraSample {
                 film: &film,
@@ -327,10 +331,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             });
             // One call site for both samplers: two inlined copies of the trace
             // took 4 KiB more stack on the Cortex-M0.
-            let footprint = (self.sampler == Sampler::Stratified).then(|| {
-                let strata = check.min(1u32 << (31 - self.samples.leading_zeros()));
-                (&self.defocus, self.defocus.stratum(strata))
-            });
+            let footprint = stratified.then_some((&self.defocus, stratum));
             let c = self.scene.trace_lens_ray(&ray, &self.cones, footprint);
             acc = [
                 S::acc_add(acc[0], c.x),
@@ -351,6 +352,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 }
                 stats.double();
                 check = check.saturating_mul(2);
+                stratum = self.defocus.stratum(check.min(full));
             }
         }
         let colour = Vec3::new(S::acc_mean(acc[0], n), S::acc_mean(acc[1], n), S::acc_mean(acc[2], n));
