@@ -81,6 +81,8 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
         sampler,
         bright,
         defocus,
+        cap,
+        survey_rays,
     } = r;
     put_scene(scene, w);
     camera.put(w);
@@ -90,6 +92,8 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
     sampler.put(w);
     bright.put(w);
     defocus.put(w);
+    cap.put(w);
+    survey_rays.put(w);
 }
 
 fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
@@ -156,6 +160,8 @@ pub struct Baked<S: BakeScalar> {
     sampler: Sampler,
     bright: BrightFootprints,
     defocus: Defocus<S>,
+    cap: u32,
+    survey_rays: u32,
 }
 
 impl<S: BakeScalar> Baked<S> {
@@ -170,6 +176,8 @@ impl<S: BakeScalar> Baked<S> {
             sampler: Sampler::default(),
             bright: BrightFootprints::blank(),
             defocus: Defocus::blank(),
+            cap: 0,
+            survey_rays: 0,
         }
     }
 
@@ -210,6 +218,8 @@ impl<S: BakeScalar> Baked<S> {
         self.sampler = Sampler::default();
         self.bright = BrightFootprints::blank();
         self.defocus = Defocus::blank();
+        self.cap = 0;
+        self.survey_rays = 0;
     }
 
     fn load_checked(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
@@ -279,6 +289,8 @@ impl<S: BakeScalar> Baked<S> {
         self.sampler.take(r)?;
         self.bright.take(r)?;
         self.defocus.take(r)?;
+        self.cap.take(r)?;
+        self.survey_rays.take(r)?;
         // One cone per object: the cull looks an object's cone up by its index.
         if self.cones.len() != self.scene.objects.len() {
             return Err(BakeError::OutOfRange("lens cones do not match the objects"));
@@ -308,6 +320,8 @@ impl<S: BakeScalar> Baked<S> {
             sampler: self.sampler,
             bright: self.bright.clone(),
             defocus: self.defocus,
+            cap: self.cap,
+            survey_rays: self.survey_rays,
         }
     }
 

@@ -66,7 +66,8 @@ pub fn render_image_counted<S: Scalar + Send + Sync>(
             })
             .sum();
     }
-    (Image { width, height, pixels }, rays)
+    // The adaptive survey's rays (set-up) count too.
+    (Image { width, height, pixels }, rays + renderer.adaptive_cap().1 as u64)
 }
 
 /// Encodes a 24-bit uncompressed BMP (bottom-up rows, padded to 4 bytes).
