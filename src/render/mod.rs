@@ -257,8 +257,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         self.survey_rays = 0;
         let (cols, rows) = (self.camera.cols(), self.camera.rows());
         let stride = survey_stride(cols, rows);
-        let (true, Some(s), false) = (self.adaptive && self.samples >= ADAPTIVE_MIN_POINT, stride, self.camera.is_pinhole())
-        else {
+        // Where the budget is within a quarter of the pilot (`point` 24 and
+        // under) the survey's rays would cost more than it can free.
+        let room = 2 * self.samples >= 5 * (adaptive_pilot(self.samples) * 5 / 4);
+        let (true, Some(s), false) = (self.adaptive && room, stride, self.camera.is_pinhole()) else {
             return self;
         };
         let (mut settled_pilots, mut unsettled, mut rays, mut count) = (0u64, 0u64, 0u64, 0u64);
@@ -279,6 +281,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 }
             }
         }
+        // A margin of one binomial standard deviation of the count,
+        // √(U (G − U) / G) rounded up, so that a frame with more unsettled
+        // pixels than its survey saw stays within the budget.
+        let var = (unsettled * (count - unsettled)).div_ceil(count.max(1));
+        let root = var.isqrt();
+        let unsettled = unsettled + root + (root * root < var) as u64;
         let pixels = cols as u128 * rows as u128;
         // 5 (R + N/G (S + U C)) <= 2 samples N, times G.
         let budget = (2 * self.samples as u128 * pixels).saturating_sub(5 * rays as u128) * count as u128;
