@@ -34,7 +34,10 @@ fn main() {
         let d = |p: u8, q: u8| (p as f64 - q as f64).powi(2);
         d(c.r(), t.r()) + d(c.g(), t.g()) + d(c.b(), t.b())
     };
-    let cs: Vec<u32> = (pilot..=point).step_by(((point - pilot) / 8).max(1) as usize).chain([point]).collect();
+    let cs: Vec<u32> = (pilot..=point)
+        .step_by(((point - pilot) / 8).max(1) as usize)
+        .chain([point])
+        .collect();
     // class -> (pixels, default err, independent err)
     let mut class: std::collections::BTreeMap<(bool, &str), (u32, f64, f64)> = Default::default();
     let mut alloc = vec![(0.0f64, 0.0f64); cs.len()];
@@ -48,24 +51,42 @@ fn main() {
             tot_d += ed;
             tot_i += ei;
             let risk = r.bright_footprints().at_risk(x, y);
-            let k = if n == pilot { "pilot" } else if n >= cap { "capped" } else { "later" };
+            let k = if n == pilot {
+                "pilot"
+            } else if n >= cap {
+                "capped"
+            } else {
+                "later"
+            };
             let s = class.entry((risk, k)).or_default();
             s.0 += 1;
             s.1 += ed;
             s.2 += ei;
             for (j, &cc) in cs.iter().enumerate() {
-                let (e, rays) = if n == pilot { (ed, n) } else { (err(rs.clone().with_samples(cc).pixel(x, y), x, y), cc) };
+                let (e, rays) = if n == pilot {
+                    (ed, n)
+                } else {
+                    (err(rs.clone().with_samples(cc).pixel(x, y), x, y), cc)
+                };
                 alloc[j].0 += e;
                 alloc[j].1 += rays as f64;
             }
         }
     }
-    println!("seed {seed} point {point} pilot {pilot} cap {cap}: default {:.2} dB, independent {:.2} dB", psnr(tot_d), psnr(tot_i));
+    println!(
+        "seed {seed} point {point} pilot {pilot} cap {cap}: default {:.2} dB, independent {:.2} dB",
+        psnr(tot_d),
+        psnr(tot_i)
+    );
     for ((risk, k), (p, d, i)) in class {
         println!("  lamp {risk:5} {k:6}: {p:6} px ({:5.1} %), default err {:5.1} % of total, independent err {:5.1} % (mean sq {:.1} vs {:.1})",
             100.0 * p as f64 / (w * h) as f64, 100.0 * d / tot_d, 100.0 * i / tot_i, d / p as f64, i / p as f64);
     }
     for (j, &cc) in cs.iter().enumerate() {
-        println!("  unsettled at C={cc:3}: {:.2} dB at {:.1} % of point", psnr(alloc[j].0), 100.0 * alloc[j].1 / (w * h) as f64 / point as f64);
+        println!(
+            "  unsettled at C={cc:3}: {:.2} dB at {:.1} % of point",
+            psnr(alloc[j].0),
+            100.0 * alloc[j].1 / (w * h) as f64 / point as f64
+        );
     }
 }

@@ -7,7 +7,7 @@
 //! --example adaptive_campaign`).
 
 use lensray::unstable::render::{
-    adaptive_limit, adaptive_pilot, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT,
+    adaptive_limit, adaptive_pilot, dithered_cap, survey_stride, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT,
 };
 use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
@@ -135,29 +135,29 @@ fn generated_lens_scenes_meet_the_floors() {
 #[test]
 fn generated_lens_scenes_stop_at_powers_of_two_or_the_limit_on_the_full_renders_samples() {
     // On scenes never seen: every pixel casts its pilot, a power of two above
-    // it, or 40 % of `point`; and its colour is the render without adaptive
-    // sampling at that many samples (the same samples and footprints).
+    // it up to the frame's cap dithered to a power of two, or `point`; and
+    // its colour is the render without adaptive sampling at that many
+    // samples (the same samples and footprints).
     for seed in run_time_seeds(3) {
         let text = lensray_testkit::scenegen::generate_lens(seed);
         let scene = Scene::<I16F16>::parse(&text).unwrap();
         let point = scene.camera.samples;
         let r = Renderer::new(&scene, 24, 18);
         let pilot = adaptive_pilot(point);
-        let limit = adaptive_limit(point).max(pilot);
+        // No survey at 24x18: the cap is 40 % of point.
+        assert_eq!(r.adaptive_cap(), (adaptive_limit(point), 0));
+        let cap = adaptive_limit(point).max(pilot);
+        let limit = (2 << (31 - cap.leading_zeros())).min(point);
         for (x, y) in (0..18).flat_map(|y| (0..24).map(move |x| (x, y))) {
             let (c, n) = r.pixel_rays(x, y);
             if point < ADAPTIVE_MIN_POINT || scene.camera.radius == 0.0 || !scene.camera.adaptive {
                 assert!(n == point || n == 1, "seed {seed}: {n} of {point}");
                 continue;
             }
-            // In a lamp's footprint a pixel that saw the lamp may take them all.
-            let lamp = r.bright_footprints().at_risk(x, y);
+            assert!(n <= limit, "seed {seed}: {n} rays of {point} (limit {limit})");
+            assert_eq!(n.max(pilot), n, "seed {seed}: below the pilot");
             assert!(
-                n <= limit || (lamp && (n == point || n.is_power_of_two())),
-                "seed {seed}: {n} rays of {point} (limit {limit})"
-            );
-            assert!(
-                n == limit || n == point || (n >= pilot.min(limit) && n.is_power_of_two()),
+                n == point || n.is_power_of_two(),
                 "seed {seed}: {n} rays of {point} (pilot {pilot})"
             );
             if n == pilot {
@@ -227,7 +227,7 @@ fn samples_that_agree_stop_after_the_pilot_and_others_go_on() {
         "off: every sample"
     );
     // Program 1's blurred cube edge: samples differ, so that pixel goes on
-    // past the pilot, to 40 % of the 70 samples (28).
+    // past the pilot, to the survey's cap dithered to 32 or 64.
     let p1 =
         load_scene::<I16F16>(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/paper-program1.scene"))
             .unwrap();
@@ -236,9 +236,20 @@ fn samples_that_agree_stop_after_the_pilot_and_others_go_on() {
         .flat_map(|y| (0..80).map(move |x| (x, y)))
         .map(|(x, y)| r.pixel_rays(x, y).1)
         .collect();
-    assert!(counts.contains(&adaptive_limit(70)));
+    let (cap, survey) = r.adaptive_cap();
+    assert!(
+        survey > 0 && cap > adaptive_limit(70),
+        "cap {cap}: the budget settled pixels leave"
+    );
+    assert!(counts.contains(&32));
     assert!(counts.contains(&ADAPTIVE_PILOT));
-    assert!(counts.iter().all(|&n| [16, 28].contains(&n)), "the pilot or the limit");
+    assert!(
+        counts.iter().all(|&n| [16, 32, 64, 70].contains(&n)),
+        "the pilot or a power of two"
+    );
+    // The frame's mean within the budget, the survey's rays included.
+    let total: u64 = counts.iter().map(|&n| n as u64).sum::<u64>() + survey as u64;
+    assert!(total * 5 <= 2 * 70 * 4800, "{total} rays");
     // A stopped pixel's samples are the first ones of the full render: with
     // as many samples as it took, adaptive off gives the same colour.
     let (x, y) = (0..4800)
@@ -362,5 +373,54 @@ fn a_lamps_footprint_holds_every_pixel_it_reaches() {
             }
         }
         assert!(lit > 0 && risky < 48 * 48, "lens {lens}: {lit} lit, {risky} at risk");
+    }
+}
+
+#[test]
+fn the_dithered_cap_is_a_power_of_two_and_keeps_the_mean_within_the_cap() {
+    // Over each 4x4 tile: the power of two below the cap or twice it, with a
+    // mean at most the cap and within a sixteenth of that power below it.
+    for cap in 1..=300u32 {
+        let low = 1u32 << (31 - cap.leading_zeros());
+        let takes: Vec<u32> = (0..16).map(|i| dithered_cap(cap, 5 + i % 4, 2 + i / 4)).collect();
+        assert!(takes.iter().all(|&n| n == low || n == 2 * low), "cap {cap}: {takes:?}");
+        let sum: u32 = takes.iter().sum();
+        assert!(sum <= 16 * cap, "cap {cap}: mean {} above", sum as f64 / 16.0);
+        assert!(sum + low > 16 * cap, "cap {cap}: mean {} too low", sum as f64 / 16.0);
+    }
+}
+
+#[test]
+fn the_survey_sets_the_cap_from_the_frames_settled_share() {
+    // A lens looking at nothing: every surveyed pixel settles at its pilot,
+    // so an unsettled pixel may take every sample; below the survey's size
+    // the cap is 40 % of point.
+    let empty = Scene::<I16F16>::parse("radius 0.3\npoint 64\n").unwrap();
+    assert_eq!(survey_stride(80, 60), Some(8));
+    assert_eq!(survey_stride(40, 30), Some(4));
+    assert_eq!(survey_stride(24, 18), None);
+    let r = Renderer::new(&empty, 80, 60);
+    assert_eq!(r.adaptive_cap(), (64, 70 * ADAPTIVE_PILOT));
+    assert_eq!(Renderer::new(&empty, 24, 18).adaptive_cap(), (adaptive_limit(64), 0));
+    // Adaptive off or a sample override: surveyed again.
+    assert_eq!(r.clone().with_adaptive(false).adaptive_cap(), (adaptive_limit(64), 0));
+    assert_eq!(r.clone().with_samples(320).adaptive_cap().0, 320);
+    // The frame's rays with the survey's stay within 40 % of point on
+    // Program 1 at three sizes and three counts.
+    let p1 =
+        load_scene::<I16F16>(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/paper-program1.scene"))
+            .unwrap();
+    for (w, h, point) in [(40, 30, 40), (64, 48, 70), (96, 72, 33)] {
+        let r = Renderer::new(&p1, w, h).with_samples(point);
+        let total: u64 = (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .map(|(x, y)| r.pixel_rays(x, y).1 as u64)
+            .sum::<u64>()
+            + r.adaptive_cap().1 as u64;
+        assert!(
+            total * 5 <= 2 * point as u64 * (w * h) as u64,
+            "{w}x{h} point {point}: {:.1} rays",
+            total as f64 / (w * h) as f64
+        );
     }
 }

@@ -101,7 +101,7 @@ pub fn dithered_cap(cap: u32, col: u32, row: u32) -> u32 {
     let low = 1u32 << (31 - cap.max(1).leading_zeros());
     let rank = BAYER[((row & 3) * 4 + (col & 3)) as usize] as u32;
     // (cap - low) / low of the pixels, in sixteenths: cap - low < low < 2^16.
-    if rank * low < 16 * (cap - low) {
+    if (rank + 1) * low <= 16 * (cap - low) {
         low.saturating_mul(2)
     } else {
         low
@@ -154,7 +154,7 @@ const ADAPTIVE_MAX_GAIN: u128 = 8;
 #[derive(Default)]
 struct LevelStats {
     /// At most 2¹⁵ samples below 2¹⁶ levels each: a u32 holds them (and
-    /// leaves the Cortex-M0's stack the room of the flag below).
+    /// leaves the Cortex-M0's stack room).
     quarter: [[u32; 3]; 4],
     sum_sq: [u64; 3],
 }
@@ -257,28 +257,43 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         self.survey_rays = 0;
         let (cols, rows) = (self.camera.cols(), self.camera.rows());
         let stride = survey_stride(cols, rows);
-        // Where the budget is within a quarter of the pilot (`point` 24 and
-        // under) the survey's rays would cost more than it can free.
-        let room = 2 * self.samples >= 5 * (adaptive_pilot(self.samples) * 5 / 4);
-        let (true, Some(s), false) = (self.adaptive && room, stride, self.camera.is_pinhole()) else {
+        let (true, Some(s), false) = (
+            self.adaptive && self.samples >= ADAPTIVE_MIN_POINT,
+            stride,
+            self.camera.is_pinhole(),
+        ) else {
             return self;
         };
-        let (mut settled_pilots, mut unsettled, mut rays, mut count) = (0u64, 0u64, 0u64, 0u64);
-        for y in (s / 2..rows).step_by(s as usize).take((rows / s) as usize) {
-            for x in (s / 2..cols).step_by(s as usize).take((cols / s) as usize) {
-                let pilot = if self.bright.at_risk(x, y) {
-                    adaptive_risk_pilot(self.samples)
-                } else {
-                    adaptive_pilot(self.samples)
-                };
-                let n = self.pixel_rays_within(x, y, pilot + 1).1;
-                rays += n as u64;
-                count += 1;
-                if n == pilot {
-                    settled_pilots += n as u64;
-                } else {
-                    unsettled += 1;
-                }
+        let grid = |s: u32| {
+            let xs = move |_| (s / 2..cols).step_by(s as usize).take((cols / s) as usize);
+            (s / 2..rows)
+                .step_by(s as usize)
+                .take((rows / s) as usize)
+                .flat_map(move |y| xs(y).map(move |x| (x, y)))
+        };
+        let pilot = |x, y| {
+            if self.bright.at_risk(x, y) {
+                adaptive_risk_pilot(self.samples)
+            } else {
+                adaptive_pilot(self.samples)
+            }
+        };
+        // Only where the grid's pilots (no rays: lamps' footprints are known)
+        // leave a fifth of the budget: else the survey's rays would cost more
+        // than it can free (`point` 24 and under, frames of lamps' footprints).
+        let (pilots, count) = grid(s).fold((0u64, 0u64), |(p, c), (x, y)| (p + pilot(x, y) as u64, c + 1));
+        if 5 * 5 * pilots > 4 * 2 * self.samples as u64 * count {
+            return self;
+        }
+        let (mut settled_pilots, mut unsettled, mut rays) = (0u64, 0u64, 0u64);
+        for (x, y) in grid(s) {
+            let pilot = pilot(x, y);
+            let n = self.pixel_rays_within(x, y, pilot + 1).1;
+            rays += n as u64;
+            if n == pilot {
+                settled_pilots += n as u64;
+            } else {
+                unsettled += 1;
             }
         }
         // A margin of one binomial standard deviation of the count,
