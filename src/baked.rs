@@ -83,6 +83,7 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
         defocus,
         cap,
         survey_rays,
+        spread,
     } = r;
     put_scene(scene, w);
     camera.put(w);
@@ -94,6 +95,7 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
     defocus.put(w);
     cap.put(w);
     survey_rays.put(w);
+    spread.put(w);
 }
 
 fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
@@ -162,6 +164,7 @@ pub struct Baked<S: BakeScalar> {
     defocus: Defocus<S>,
     cap: u32,
     survey_rays: u32,
+    spread: u32,
 }
 
 impl<S: BakeScalar> Baked<S> {
@@ -178,6 +181,7 @@ impl<S: BakeScalar> Baked<S> {
             defocus: Defocus::blank(),
             cap: 0,
             survey_rays: 0,
+            spread: 0,
         }
     }
 
@@ -220,6 +224,7 @@ impl<S: BakeScalar> Baked<S> {
         self.defocus = Defocus::blank();
         self.cap = 0;
         self.survey_rays = 0;
+        self.spread = 0;
     }
 
     fn load_checked(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
@@ -291,6 +296,7 @@ impl<S: BakeScalar> Baked<S> {
         self.defocus.take(r)?;
         self.cap.take(r)?;
         self.survey_rays.take(r)?;
+        self.spread.take(r)?;
         // One cone per object: the cull looks an object's cone up by its index.
         if self.cones.len() != self.scene.objects.len() {
             return Err(BakeError::OutOfRange("lens cones do not match the objects"));
@@ -322,6 +328,7 @@ impl<S: BakeScalar> Baked<S> {
             defocus: self.defocus,
             cap: self.cap,
             survey_rays: self.survey_rays,
+            spread: self.spread,
         }
     }
 

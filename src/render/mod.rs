@@ -46,6 +46,11 @@ pub struct Renderer<'a, S: Scalar> {
     pub(crate) cap: u32,
     /// Lens rays the survey that set `cap` cast.
     pub(crate) survey_rays: u32,
+    /// The mean spread (standard deviation of a sample, sixteenths of a
+    /// level, summed over channels) of the survey's unsettled pixels at their
+    /// pilot; 0 without a survey. An unsettled pixel's share of the budget
+    /// beyond its pilot grows with its own spread over this one.
+    pub(crate) spread: u32,
 }
 
 /// The pilot of `point 48` to 95: one sample in each of 16 equal strata of
@@ -205,6 +210,21 @@ impl LevelStats {
         })
     }
 
+    /// The spread of the `n` samples so far (n at least 2): √(Σ s²) over the
+    /// channels, in sixteenths of a level (s² the samples' variance).
+    fn spread(&self, n: u32) -> u32 {
+        let n = n as u128;
+        let var: u128 = (0..3)
+            .map(|i| {
+                let total: u128 = (0..4).map(|j| self.quarter[j][i] as u128).sum();
+                (n * self.sum_sq[i] as u128).saturating_sub(total * total)
+            })
+            .sum();
+        // 256 Σ s² = 256 Σ (n Σx² − Q²) / (n (n − 1)): below 2⁶⁴ for 2¹⁶ samples of 2¹⁶ levels.
+        let v = (256 * var / (n * (n - 1)).max(1)).min(u64::MAX as u128) as u64;
+        v.isqrt().min(u32::MAX as u64) as u32
+    }
+
     /// Moves on to the next check at twice the samples: the four quarters
     /// become the first two, the next samples fill the other two.
     fn double(&mut self) {
@@ -238,6 +258,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             defocus: Defocus::new(scene),
             cap: 0,
             survey_rays: 0,
+            spread: 0,
         }
         .surveyed()
     }
@@ -255,6 +276,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     fn surveyed(mut self) -> Self {
         self.cap = adaptive_limit(self.samples);
         self.survey_rays = 0;
+        self.spread = 0;
         let (cols, rows) = (self.camera.cols(), self.camera.rows());
         let stride = survey_stride(cols, rows);
         let (true, Some(s), false) = (
@@ -285,15 +307,17 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         if 5 * 5 * pilots > 4 * 2 * self.samples as u64 * count {
             return self;
         }
-        let (mut settled_pilots, mut unsettled, mut rays) = (0u64, 0u64, 0u64);
+        let (mut settled_pilots, mut unsettled, mut rays, mut spreads) = (0u64, 0u64, 0u64, 0u64);
         for (x, y) in grid(s) {
             let pilot = pilot(x, y);
-            let n = self.pixel_rays_within(x, y, pilot + 1).1;
+            // Without a spread yet, the pixel stops at its pilot either way.
+            let (_, n, spread) = self.pixel_rays_within(x, y, pilot);
             rays += n as u64;
-            if n == pilot {
+            if spread == 0 {
                 settled_pilots += n as u64;
             } else {
                 unsettled += 1;
+                spreads += spread as u64;
             }
         }
         // A margin of one binomial standard deviation of the count,
@@ -312,6 +336,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             None => 0,
         };
         self.survey_rays = rays as u32;
+        self.spread = spreads.div_ceil(unsettled.max(1)).min(u32::MAX as u64) as u32;
         self
     }
 
@@ -403,19 +428,21 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// stratum's footprint (see [`Defocus`]): one of `check` strata while the
     /// pixel is adaptive, else of the largest power of two within the samples.
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
-        self.pixel_rays_within(col, row, self.cap)
+        let (c, n, _) = self.pixel_rays_within(col, row, self.cap);
+        (c, n)
     }
 
-    /// [`Renderer::pixel_rays`] with `most` samples for an adaptive pixel
-    /// that is not settled (at least its pilot).
-    fn pixel_rays_within(&self, col: u32, row: u32, most: u32) -> (Vec3<S>, u32) {
+    /// [`Renderer::pixel_rays`] with a cap of `most` samples for an adaptive
+    /// pixel that is not settled (at least its pilot), and the pixel's spread
+    /// at its last check if it was not settled there (at least 1), else 0.
+    fn pixel_rays_within(&self, col: u32, row: u32, most: u32) -> (Vec3<S>, u32, u32) {
         let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
             let ray = self.camera.generate_ray(&CameraSample {
                 film: &film,
                 lens: None,
             });
-            return (self.scene.trace_lens_ray(&ray, &self.cones, None), 1);
+            return (self.scene.trace_lens_ray(&ray, &self.cones, None), 1, 0);
         }
         // The pixel's own samples: independent of row order and threads.
         let mut lens = PixelSamples::new(self.sampler, col, row);
@@ -433,11 +460,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // A pixel that is not settled stops at the frame's cap (the survey's),
         // dithered between the powers of two around it: a partial block of
         // the (0,2)-sequence is badly stratified.
-        let limit = if adaptive {
+        let mut limit = if adaptive {
             dithered_cap(most.max(check), col, row).min(self.samples)
         } else {
             self.samples
         };
+        let pilot = check;
+        let mut spread = 0;
         let mut n = 0;
         // Stratified rays stand for a stratum each: with adaptive sampling,
         // one of the `check` strata the samples so far divide the lens into;
@@ -472,13 +501,22 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 if stats.settled(n, self.samples) {
                     break;
                 }
+                // Its share beyond the pilot: the frame's, times its spread
+                // over the survey's mean (samples ∝ the standard deviation:
+                // the least total variance for the rays).
+                spread = stats.spread(n).max(1);
+                if self.spread > 0 {
+                    let extra = most.saturating_sub(pilot) as u64 * spread as u64 / self.spread as u64;
+                    let own = (pilot as u64 + extra).min(self.samples as u64) as u32;
+                    limit = dithered_cap(own, col, row).min(self.samples);
+                }
                 stats.double();
                 check = check.saturating_mul(2);
                 stratum = self.defocus.stratum(check.min(full));
             }
         }
         let colour = Vec3::new(S::acc_mean(acc[0], n), S::acc_mean(acc[1], n), S::acc_mean(acc[2], n));
-        (colour, n)
+        (colour, n, spread)
     }
 
     /// Pixel (`col`, `row`) as 8-bit RGB: each channel clamped and `round(255 v)`.
