@@ -264,15 +264,16 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     }
 
     /// Sets [`Renderer::cap`] from a survey of the frame: a grid of pixels
-    /// (see [`survey_stride`]) each takes its pilot and one sample more if
-    /// it is not settled there. With S the pilots of the settled ones, U the
+    /// (see [`survey_stride`]) each takes its pilot and tells whether it
+    /// settled there, else its spread. With S the pilots of the settled ones, U the
     /// unsettled ones among G surveyed of the frame's N pixels, and R the
     /// survey's rays, the cap C is the largest with N/G (S + U C) + R at
     /// most 40 % of `samples` a pixel (an unsettled pixel taking all of C
     /// bounds what it takes), at most `samples`: the budget settled pixels
     /// leave goes to the unsettled ones, also in lamps' footprints. Every
     /// pixel still depends only on its position (rows in any order, the
-    /// progressive passes the same image). Set-up only, in integers.
+    /// progressive passes the same image). The unsettled pixels' mean spread
+    /// sets how they share it (see [`Renderer::pixel_rays`]). Set-up only, in integers.
     fn surveyed(mut self) -> Self {
         self.cap = adaptive_limit(self.samples);
         self.survey_rays = 0;
@@ -422,7 +423,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// a lamp's footprint, see [`BrightFootprints`] and
     /// [`adaptive_risk_pilot`]), then at every power of two asks whether its
     /// mean is settled (see the scene format's "Adaptive lens sampling"), and
-    /// stops there; else it goes on, up to [`adaptive_limit`] samples. The
+    /// stops there; else it goes on, up to its share of the frame's budget
+    /// (the survey's cap C: its pilot P plus (C − P) times its samples'
+    /// spread over the survey's mean, dithered to a power of two). The
     /// samples taken are the first ones of the full render. With the
     /// stratified sampler, a ray that meets a checker averages it over its
     /// stratum's footprint (see [`Defocus`]): one of `check` strata while the
