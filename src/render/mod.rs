@@ -113,6 +113,24 @@ pub fn dithered_cap(cap: u32, col: u32, row: u32) -> u32 {
     }
 }
 
+/// ⌊√v⌋, bit by bit: small code on the M0's per-pixel path.
+fn isqrt(mut v: u64) -> u32 {
+    let (mut root, mut bit) = (0u64, 1u64 << 62);
+    while bit > v {
+        bit >>= 2;
+    }
+    while bit != 0 {
+        if v >= root + bit {
+            v -= root + bit;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+        bit >>= 2;
+    }
+    root as u32
+}
+
 /// The fewest pixels a survey takes: below it (images under about 32×32)
 /// its estimate of the frame's unsettled share is too coarse, and
 /// unsettled pixels stop at [`adaptive_limit`].
@@ -213,16 +231,15 @@ impl LevelStats {
     /// The spread of the `n` samples so far (n at least 2): √(Σ s²) over the
     /// channels, in sixteenths of a level (s² the samples' variance).
     fn spread(&self, n: u32) -> u32 {
-        let n = n as u128;
-        let var: u128 = (0..3)
-            .map(|i| {
-                let total: u128 = (0..4).map(|j| self.quarter[j][i] as u128).sum();
-                (n * self.sum_sq[i] as u128).saturating_sub(total * total)
-            })
-            .sum();
-        // 256 Σ s² = 256 Σ (n Σx² − Q²) / (n (n − 1)): below 2⁶⁴ for 2¹⁶ samples of 2¹⁶ levels.
-        let v = (256 * var / (n * (n - 1)).max(1)).min(u64::MAX as u128) as u64;
-        v.isqrt().min(u32::MAX as u64) as u32
+        // In u64, saturating: a 128-bit division and square root here cost the
+        // M0 3.5 KB of flash (n Σx² fits but for lamps at thousands of samples).
+        let var = (0..3).fold(0u64, |acc, i| {
+            let total: u64 = (0..4).map(|j| self.quarter[j][i] as u64).sum();
+            let spread = (n as u64 * self.sum_sq[i]).saturating_sub(total.saturating_mul(total));
+            acc.saturating_add(spread)
+        });
+        // 256 Σ s² = 256 Σ (n Σx² − Q²) / (n (n − 1)).
+        isqrt(var.saturating_mul(256) / (n as u64 * n.saturating_sub(1) as u64).max(1))
     }
 
     /// Moves on to the next check at twice the samples: the four quarters
@@ -325,7 +342,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // √(U (G − U) / G) rounded up, so that a frame with more unsettled
         // pixels than its survey saw stays within the budget.
         let var = (unsettled * (count - unsettled)).div_ceil(count.max(1));
-        let root = var.isqrt();
+        let root = isqrt(var) as u64;
         let unsettled = unsettled + root + (root * root < var) as u64;
         let pixels = cols as u128 * rows as u128;
         // 5 (R + N/G (S + U C)) <= 2 samples N, times G.
