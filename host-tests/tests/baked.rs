@@ -267,7 +267,10 @@ fn a_refused_file_leaves_an_empty_scene() {
 fn an_adaptive_frame_keeps_its_survey_after_baking() {
     // Program 1 at 64x48 and 40 samples: adaptive, surveyed (every 4th pixel),
     // so the cap and the spread the survey set travel in the baked bytes.
-    let path = scenes().into_iter().find(|p| p.ends_with("paper-program1.scene")).unwrap();
+    let path = scenes()
+        .into_iter()
+        .find(|p| p.ends_with("paper-program1.scene"))
+        .unwrap();
     let text = std::fs::read(&path).unwrap();
     let q = Scene::<I16F16>::parse_bytes(&text).unwrap();
     let f = Scene::<f32>::parse_bytes(&text).unwrap();
@@ -276,6 +279,8 @@ fn an_adaptive_frame_keeps_its_survey_after_baking() {
     round_trip(&q, 64, 48, 40, "Program 1 adaptive Q16.16");
     round_trip(&f, 64, 48, 40, "Program 1 adaptive f32");
     let mut loaded = Baked::<I16F16>::empty();
-    loaded.load(&baked_bytes(&Renderer::new(&q, 64, 48).with_samples(40))).unwrap();
+    loaded
+        .load(&baked_bytes(&Renderer::new(&q, 64, 48).with_samples(40)))
+        .unwrap();
     assert_eq!(loaded.renderer().adaptive_cap(), (cap, survey));
 }

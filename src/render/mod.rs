@@ -113,24 +113,6 @@ pub fn dithered_cap(cap: u32, col: u32, row: u32) -> u32 {
     }
 }
 
-/// ⌊√v⌋, bit by bit: small code on the M0's per-pixel path.
-fn isqrt(mut v: u64) -> u32 {
-    let (mut root, mut bit) = (0u64, 1u64 << 62);
-    while bit > v {
-        bit >>= 2;
-    }
-    while bit != 0 {
-        if v >= root + bit {
-            v -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
-        }
-        bit >>= 2;
-    }
-    root as u32
-}
-
 /// The fewest pixels a survey takes: below it (images under about 32×32)
 /// its estimate of the frame's unsettled share is too coarse, and
 /// unsettled pixels stop at [`adaptive_limit`].
@@ -197,8 +179,9 @@ impl LevelStats {
         }
     }
 
-    /// Whether the mean of the `n` samples so far (a power of two, at least
-    /// 4) of a pixel of `full` samples is settled on every channel. Its
+    /// `None` if the mean of the `n` samples so far (a power of two, at least
+    /// 4) of a pixel of `full` samples is settled on every channel, else its
+    /// samples' spread (at least 1). Its
     /// variance V is estimated from the spread of the four quarters' means,
     /// V_q = Σ(m_j − m)²/12, and taken as at least s²/(n G), s² the samples'
     /// variance and G = [`ADAPTIVE_MAX_GAIN`]; the pixel stops when V is at
@@ -206,7 +189,8 @@ impl LevelStats {
     /// independent full render. In integers, exactly, with h = n/4, Q the
     /// total and q_j the quarters' sums: 192 h² V_q = Σ(4 q_j − Q)² and
     /// n (n − 1) s² = n Σx² − Q².
-    fn settled(&self, n: u32, full: u32) -> bool {
+    fn settled(&self, n: u32, full: u32) -> Option<u32> {
+        let n32 = n;
         let (n, h, full) = (n as u128, (n / 4) as u128, full as u128);
         let (t, rel, gain) = (ADAPTIVE_VAR_SIXTEENTHS, ADAPTIVE_REL_SIXTEENTHS, ADAPTIVE_MAX_GAIN);
         // The same for every channel: computed once (128-bit products are
@@ -216,30 +200,25 @@ impl LevelStats {
         let abs_s = gain * t * n * n * (n - 1);
         let rel_q = full * 16 * n * (n - 1);
         let rel_ok = full * 16 <= rel * n * gain;
-        (0..3).all(|i| {
+        let (mut settled, mut var) = (true, 0u128);
+        for i in 0..3 {
             let q: [u128; 4] = core::array::from_fn(|j| self.quarter[j][i] as u128);
             let total = q[0] + q[1] + q[2] + q[3];
             let spread_q: u128 = q.iter().map(|&x| (4 * x).abs_diff(total).pow(2)).sum();
             let spread = (n * self.sum_sq[i] as u128).saturating_sub(total * total);
+            var += spread;
             // V_q <= t/16 and s²/(n G) <= t/16.
             let absolute = spread_q * 16 <= abs_q && spread * 16 <= abs_s;
             // V_q <= (rel/16) s²/full and s²/(n G) <= (rel/16) s²/full.
-            absolute || (rel_ok && spread_q * rel_q <= rel * spread * quarters_bound)
-        })
-    }
-
-    /// The spread of the `n` samples so far (n at least 2): √(Σ s²) over the
-    /// channels, in sixteenths of a level (s² the samples' variance).
-    fn spread(&self, n: u32) -> u32 {
-        // In u64, saturating: a 128-bit division and square root here cost the
-        // M0 3.5 KB of flash (n Σx² fits but for lamps at thousands of samples).
-        let var = (0..3).fold(0u64, |acc, i| {
-            let total: u64 = (0..4).map(|j| self.quarter[j][i] as u64).sum();
-            let spread = (n as u64 * self.sum_sq[i]).saturating_sub(total.saturating_mul(total));
-            acc.saturating_add(spread)
-        });
-        // 256 Σ s² = 256 Σ (n Σx² − Q²) / (n (n − 1)).
-        isqrt(var.saturating_mul(256) / (n as u64 * n.saturating_sub(1) as u64).max(1))
+            settled &= absolute || (rel_ok && spread_q * rel_q <= rel * spread * quarters_bound);
+        }
+        // Not settled: the samples' spread √(Σ s²) over the channels, in
+        // sixteenths of a level, 256 Σ s² = 256 Σ (n Σx² − Q²) / (n (n − 1))
+        // (in u64, saturating: a 128-bit division and square root here cost
+        // the M0 3.5 KB of flash; the shared integer square root).
+        let var = if var >> 56 == 0 { (var as u64) << 8 } else { u64::MAX };
+        // n is 8 to 2¹⁶: n (n − 1) fits a u32.
+        (!settled).then(|| (crate::number::wide::isqrt_rem_u64(var / (n32 * (n32 - 1)) as u64).0 as u32).max(1))
     }
 
     /// Moves on to the next check at twice the samples: the four quarters
@@ -342,7 +321,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // √(U (G − U) / G) rounded up, so that a frame with more unsettled
         // pixels than its survey saw stays within the budget.
         let var = (unsettled * (count - unsettled)).div_ceil(count.max(1));
-        let root = isqrt(var) as u64;
+        let root = crate::number::wide::isqrt_rem_u64(var).0;
         let unsettled = unsettled + root + (root * root < var) as u64;
         let pixels = cols as u128 * rows as u128;
         // 5 (R + N/G (S + U C)) <= 2 samples N, times G.
@@ -480,11 +459,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // A pixel that is not settled stops at the frame's cap (the survey's),
         // dithered between the powers of two around it: a partial block of
         // the (0,2)-sequence is badly stratified.
-        let mut limit = if adaptive {
-            dithered_cap(most.max(check), col, row).min(self.samples)
-        } else {
-            self.samples
-        };
+        // (Set at its first check, which comes first: one call site.)
+        let mut limit = if adaptive { most.max(check) } else { self.samples };
         let pilot = check;
         let mut spread = 0;
         let mut n = 0;
@@ -518,18 +494,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             }
             n += 1;
             if adaptive && n == check && n < self.samples {
-                if stats.settled(n, self.samples) {
-                    break;
-                }
                 // Its share beyond the pilot: the frame's, times its spread
                 // over the survey's mean (samples ∝ the standard deviation:
                 // the least total variance for the rays).
-                spread = stats.spread(n).max(1);
-                if self.spread > 0 {
-                    let extra = most.saturating_sub(pilot) as u64 * spread as u64 / self.spread as u64;
-                    let own = (pilot as u64 + extra).min(self.samples as u64) as u32;
-                    limit = dithered_cap(own, col, row).min(self.samples);
-                }
+                let Some(own) = stats.settled(n, self.samples) else {
+                    spread = 0;
+                    break;
+                };
+                spread = own;
+                limit = self.share(most, pilot, spread, col, row);
                 stats.double();
                 check = check.saturating_mul(2);
                 stratum = self.defocus.stratum(check.min(full));
@@ -537,6 +510,19 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         }
         let colour = Vec3::new(S::acc_mean(acc[0], n), S::acc_mean(acc[1], n), S::acc_mean(acc[2], n));
         (colour, n, spread)
+    }
+
+    /// The cap of an unsettled pixel of pilot `pilot` and spread `spread`
+    /// where the frame's is `most`, dithered to a power of two.
+    fn share(&self, most: u32, pilot: u32, spread: u32, col: u32, row: u32) -> u32 {
+        let own = if self.spread > 0 {
+            // In u32, saturating (lamps' spreads): the micro:bit's flash.
+            let extra = most.saturating_sub(pilot).saturating_mul(spread) / self.spread;
+            pilot.saturating_add(extra).min(self.samples)
+        } else {
+            most.max(pilot)
+        };
+        dithered_cap(own, col, row).min(self.samples)
     }
 
     /// Pixel (`col`, `row`) as 8-bit RGB: each channel clamped and `round(255 v)`.
