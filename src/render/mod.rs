@@ -515,12 +515,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// The cap of an unsettled pixel of pilot `pilot` and spread `spread`
     /// where the frame's is `most`, dithered to a power of two.
     fn share(&self, most: u32, pilot: u32, spread: u32, col: u32, row: u32) -> u32 {
-        let own = if self.spread > 0 {
-            // In u32, saturating (lamps' spreads): the micro:bit's flash.
-            let extra = most.saturating_sub(pilot).saturating_mul(spread) / self.spread;
-            pilot.saturating_add(extra).min(self.samples)
-        } else {
-            most.max(pilot)
+        // In u32, saturating (lamps' spreads): the micro:bit's flash. No
+        // survey spread: the frame's cap.
+        let own = match most
+            .saturating_sub(pilot)
+            .saturating_mul(spread)
+            .checked_div(self.spread)
+        {
+            Some(extra) => pilot.saturating_add(extra).min(self.samples),
+            None => most.max(pilot),
         };
         dithered_cap(own, col, row).min(self.samples)
     }
