@@ -424,3 +424,33 @@ fn the_survey_sets_the_cap_from_the_frames_settled_share() {
         );
     }
 }
+
+#[test]
+fn generated_lens_frames_stay_within_the_ray_budget_survey_included() {
+    // The ray floor alone (no reference needed, so many frames): seeds 500
+    // to 539 at 64x48 (surveyed every 4th pixel), lamps' footprints and all.
+    // The rule before the survey let a pixel that saw a lamp take every
+    // sample: such frames cast up to 79 % of `point`.
+    let (w, h) = (64, 48);
+    let mut judged = 0;
+    for seed in 500..540u64 {
+        let scene = Scene::<I16F16>::parse(&lensray_testkit::scenegen::generate_lens(seed)).unwrap();
+        let point = scene.camera.samples;
+        if point < ADAPTIVE_MIN_POINT || scene.camera.radius == 0.0 || !scene.camera.adaptive {
+            continue;
+        }
+        judged += 1;
+        let r = Renderer::new(&scene, w, h);
+        let rays: u64 = (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .map(|(x, y)| r.pixel_rays(x, y).1 as u64)
+            .sum::<u64>()
+            + r.adaptive_cap().1 as u64;
+        assert!(
+            rays * 5 <= 2 * point as u64 * (w * h) as u64,
+            "seed {seed}: {:.1} % of point",
+            100.0 * rays as f64 / (w * h) as f64 / point as f64
+        );
+    }
+    assert!(judged >= 15, "only {judged} adaptive lens frames");
+}
