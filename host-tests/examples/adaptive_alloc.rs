@@ -1,11 +1,11 @@
 //! Where a generated lens scene's adaptive error is and what a frame-wide
 //! allocation could buy (diagnosis): `adaptive_alloc SEED WIDTH REFERENCE`.
-//! Per pixel class (stopped at the pilot, stopped later, capped; in a lamp's
+//! Per pixel class (stopped at the pilot or went on; in a lamp's
 //! footprint or not) the squared error of the default render and of `point`
 //! independent samples; then the frame's PSNR if pixels stopped at the pilot
 //! kept it and the others took C stratified samples, for C up to `point`.
 use embedded_graphics_core::pixelcolor::RgbColor;
-use lensray::unstable::render::{adaptive_limit, adaptive_pilot};
+use lensray::unstable::render::adaptive_pilot;
 use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
 use lensray_host::convergence::reference;
@@ -22,8 +22,10 @@ fn main() {
     scene.camera.sampler = Sampler::Stratified;
     scene.camera.adaptive = true;
     let point = scene.camera.samples;
-    let (pilot, cap) = (adaptive_pilot(point), adaptive_limit(point));
+    let pilot = adaptive_pilot(point);
     let r = Renderer::new(&scene, w, h);
+    // The frame's cap from the survey (unsettled pixels' mean share).
+    let cap = r.adaptive_cap().0;
     let rs = r.clone().with_adaptive(false);
     let mut ind = Scene::<I16F16>::parse(&text).unwrap();
     ind.camera.sampler = Sampler::Independent;
@@ -51,13 +53,7 @@ fn main() {
             tot_d += ed;
             tot_i += ei;
             let risk = r.bright_footprints().at_risk(x, y);
-            let k = if n == pilot {
-                "pilot"
-            } else if n >= cap {
-                "capped"
-            } else {
-                "later"
-            };
+            let k = if n == pilot { "pilot" } else { "on" };
             let s = class.entry((risk, k)).or_default();
             s.0 += 1;
             s.1 += ed;
