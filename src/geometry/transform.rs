@@ -186,6 +186,14 @@ impl<S: Scalar> Affine<S> {
         S::plane_hit(&self.rows, o.to_array(), d, t_min, t_max, checker)
     }
 
+    /// The object-space point of the world ray `o + s d` (`d` held
+    /// precisely), exactly and rounded once, where the type has the kernel
+    /// (`Kernels::exact_point`).
+    #[inline]
+    pub fn exact_point(&self, o: Vec3<S>, d: &S::Dir, s: S) -> Option<Vec3<S>> {
+        S::exact_point(&self.rows, o.to_array(), d, s).map(Vec3::from_array)
+    }
+
     /// One coordinate of a transformed point (`i` in 0..3).
     #[inline]
     pub fn point_coord(&self, i: usize, p: Vec3<S>) -> S {

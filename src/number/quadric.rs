@@ -9,9 +9,12 @@
 //! `B` and the root, and a ray nearly along a cone's line (A near 0) keeps
 //! its one finite root, where rounding each product to 2⁻¹⁶ moved hits near
 //! a cone's apex by 0.01 of its size.
+//!
+//! Also the exact object-space point a bounded shape's close decisions are
+//! taken again from ([`exact_point`]).
 
-use crate::number::q16::div_round_i64;
-use crate::number::wide::{isqrt_round_u64, mul_i32, mul_u32};
+use crate::number::q16::{div_round_i64, FixedDir, FixedRow};
+use crate::number::wide::{isqrt_round_u64, mul_i32, mul_i64, mul_u32};
 use fixed::types::I16F16;
 
 /// `n / d` as Q16.16 bits, rounded and saturated, for `d != 0`.
@@ -27,7 +30,7 @@ fn ratio_q16(n: i64, d: i64) -> I16F16 {
 
 /// `a · b` exactly, from four 32 × 32-bit products: no i128 multiply (a
 /// library call, and stack, on the Cortex-M0).
-fn mul_wide(a: i64, b: i64) -> i128 {
+pub(crate) fn mul_wide(a: i64, b: i64) -> i128 {
     let (ua, ub) = (a.unsigned_abs(), b.unsigned_abs());
     let (a0, a1, b0, b1) = (ua as u32, (ua >> 32) as u32, ub as u32, (ub >> 32) as u32);
     let mid = mul_u32(a0, b1) as u128 + mul_u32(a1, b0) as u128;
@@ -37,6 +40,28 @@ fn mul_wide(a: i64, b: i64) -> i128 {
     } else {
         p as i128
     }
+}
+
+/// `rows · (o + s d)` rounded once to Q16.16 (`Kernels::exact_point`): the
+/// world point exactly at scale 2^-(16 + g), g = −d.e (`o 2^g + m s`, each
+/// term below 2^62), each row's sum exactly in an i128. Against the usual
+/// re-origin (the point rounded in the world, then each row's sum) it drops
+/// the world rounding, which the object's inverse scale multiplies.
+#[cold]
+#[inline(never)]
+pub(crate) fn exact_point(rows: &[FixedRow; 3], o: [I16F16; 3], d: &FixedDir, s: I16F16) -> Option<[I16F16; 3]> {
+    let g = d.e.checked_neg().filter(|g| (0..=30).contains(g))? as u32;
+    if d.m.iter().any(|m| m.unsigned_abs() >= 1 << 31) {
+        return None;
+    }
+    let p: [i64; 3] = core::array::from_fn(|i| ((o[i].to_bits() as i64) << g) + mul_i64(d.m[i], s.to_bits() as i64));
+    Some(core::array::from_fn(|j| {
+        let r = &rows[j];
+        let sum = (0..3).map(|i| mul_wide(r.m[i] as i64, p[i])).sum::<i128>() + ((r.t as i128) << g);
+        let k = g + r.shift;
+        let q = if k == 0 { sum } else { (sum + (1i128 << (k - 1))) >> k };
+        I16F16::from_bits(q.clamp(i32::MIN as i128, i32::MAX as i128) as i32)
+    }))
 }
 
 /// The rounded square root of an i128 `x >= 0`, as an i64: scaled into a u64
@@ -54,10 +79,11 @@ fn sqrt_wide(x: i128) -> i64 {
 /// The side roots `(t0, t1)`, `t0 <= t1`, of the ray `o + t d` (object space,
 /// Q16.16), or `None` where the ray misses the side's surface (or, for the
 /// cylinder, runs along its axis). A cone's ray along one of its lines has one
-/// root, returned twice.
+/// root, returned twice. Sets `close` where the ray is within about 2⁻⁹ of
+/// tangent (the chord's half length √disc / A below it, or a miss as near).
 // Not inlined: its wide locals stay out of the callers' frames (the M0's 8 KiB of stack).
 #[inline(never)]
-pub(crate) fn side_roots(o: [I16F16; 3], d: [I16F16; 3], cone: bool) -> Option<(I16F16, I16F16)> {
+pub(crate) fn side_roots(o: [I16F16; 3], d: [I16F16; 3], cone: bool, close: &mut bool) -> Option<(I16F16, I16F16)> {
     let [ox, oy, oz] = o.map(I16F16::to_bits);
     let [dx, dy, dz] = d.map(I16F16::to_bits);
     let radial_a = mul_i32(dx, dx) + mul_i32(dz, dz);
@@ -83,6 +109,9 @@ pub(crate) fn side_roots(o: [I16F16; 3], d: [I16F16; 3], cone: bool) -> Option<(
         return Some((t, t));
     }
     let disc = mul_wide(b, b) - mul_wide(a, c);
+    // |disc| below (2⁻⁹)² at scale 2⁻⁶⁴ (the cone's times 16): A <= 4 keeps
+    // every chord shorter than 2⁻⁹ inside.
+    *close |= disc.unsigned_abs() < 1 << 50;
     if disc < 0 {
         return None;
     }
@@ -117,7 +146,7 @@ mod tests {
                         [a, b, a].map(I16F16::from_bits),
                         [b, a, b.wrapping_neg()].map(I16F16::from_bits),
                     );
-                    let exact = <I16F16 as Kernels>::side_roots(o, d, cone);
+                    let exact = <I16F16 as Kernels>::side_roots(o, d, cone, &mut false);
                     assert_eq!(
                         exact.is_some(),
                         a.unsigned_abs() < 1 << 28 && b.unsigned_abs() < 1 << 28
@@ -149,7 +178,7 @@ mod tests {
             let b = of[0] * df[0] + of[2] * df[2] + k * w0 * df[1];
             let c = of[0] * of[0] + of[2] * of[2] - if cone { k * w0 * w0 } else { 1.0 };
             let disc = b * b - a * c;
-            let got = side_roots(oq, dq, cone);
+            let got = side_roots(oq, dq, cone, &mut false);
             if a.abs() < 1e-3 || disc.abs() < 1e-9 {
                 continue;
             }

@@ -283,8 +283,22 @@ impl<S: Scalar> Object<S> {
         let to_world = |t: S| if by_len { t.div(len) } else { t.mul(inv_len) };
         let lt_min = to_local(t_min.sub(t_off));
         let lt_max = to_local(t_max.sub(t_off));
-        let h = self.shape.intersect_bounded(lo, ld, lt_min, lt_max)?;
-        let t = t_off.add(to_world(h.t));
+        let mut close = false;
+        let mut base = t_off;
+        let mut h = self.shape.intersect_bounded(lo, ld, lt_min, lt_max, &mut close);
+        if S::RECHECK && close {
+            // Near a rim, an edge or a tangent: again from the exact ray,
+            // rounded once where it passes closest to the centre (seeds 59,
+            // 5010, 5163: a silhouette pixel on the other object).
+            let tc = t_off.add(to_world(lo.dot(ld).neg()));
+            if let Some(lo) = self.to_object.exact_point(o, &precise, tc) {
+                base = tc;
+                let (lt_min, lt_max) = (to_local(t_min.sub(tc)), to_local(t_max.sub(tc)));
+                h = self.shape.intersect_bounded(lo, ld, lt_min, lt_max, &mut false);
+            }
+        }
+        let h = h?;
+        let t = base.add(to_world(h.t));
         if t <= t_min || t >= t_max {
             return None;
         }
@@ -306,9 +320,9 @@ impl<S: Scalar> Object<S> {
         (self.to_object.point(start), ld, len, inv_len)
     }
 
-    /// Whether the shadow ray from `o` to a light at `o + v` (`v` exact, `d`
-    /// its unit direction, `dist` its length) meets this object with
-    /// `t_min < t < dist`. With `Kernels::SHADOW_PRECISE_DIR`, a bounded shape
+    /// Whether the shadow ray from `o` along `v` (the exact vector from the
+    /// hit to the light, `d` its unit direction, `dist` its length) meets
+    /// this object with `t_min < t < dist`. With `Kernels::SHADOW_PRECISE_DIR`, a bounded shape
     /// takes its object-space direction and re-origin from `v` itself: the
     /// rounded `d` (2⁻¹⁷ a component) put a blocker 150 units on 1e-3 aside.
     // Not inlined: its locals stay out of the shading frame (the M0's 8 KiB of stack).
@@ -342,7 +356,22 @@ impl<S: Scalar> Object<S> {
         let t_off = tc.sub(radius).max(S::ZERO);
         let lo = self.to_object.point(o + v * t_off.div(dist));
         let (lt_min, lt_max) = (to_local(t_min.sub(t_off)), to_local(dist.sub(t_off)));
-        self.shape.intersect_bounded(lo, ld, lt_min, lt_max).is_some()
+        let mut close = false;
+        let hit = self.shape.intersect_bounded(lo, ld, lt_min, lt_max, &mut close).is_some();
+        if !(S::RECHECK && close) {
+            return hit;
+        }
+        // Near a rim, an edge or a tangent (seed 5116: a cylinder's shadow
+        // edge): again from the exact line, rounded once at its closest
+        // approach to the centre, s = t / dist along v.
+        let to_world = |t: S| if by_len { t.div(k) } else { t.mul(k) };
+        let s = t_off.add(to_world(lo.dot(ld).neg())).div(dist);
+        let Some(lo) = self.to_object.exact_point(o, &S::dir_from(v.to_array()), s) else {
+            return hit;
+        };
+        let tc = s.mul(dist);
+        let (lt_min, lt_max) = (to_local(t_min.sub(tc)), to_local(dist.sub(tc)));
+        self.shape.intersect_bounded(lo, ld, lt_min, lt_max, &mut false).is_some()
     }
 
     /// The world-space unit normal at a hit, turned to face against `d`.
