@@ -69,8 +69,14 @@ fn main() {
                     "neither/both"
                 }
             );
-            println!("    hit Q {hq:?}\n    hit f32 {hf:?}\n    hit f64 {:?}", px.hit.map(|(k, h)| (k, h.t, h.p, h.part)));
-            let mut involved: Vec<usize> = [hq.map(|x| x.0), hf.map(|x| x.0), px.hit.map(|x| x.0)].into_iter().flatten().collect();
+            println!(
+                "    hit Q {hq:?}\n    hit f32 {hf:?}\n    hit f64 {:?}",
+                px.hit.map(|(k, h)| (k, h.t, h.p, h.part))
+            );
+            let mut involved: Vec<usize> = [hq.map(|x| x.0), hf.map(|x| x.0), px.hit.map(|x| x.0)]
+                .into_iter()
+                .flatten()
+                .collect();
             involved.dedup();
             for k in involved {
                 println!("    margin of {k} ({:?}): {:?}", s64.objects[k].shape, px.margins[k]);
@@ -88,15 +94,32 @@ fn main() {
                         let st = tc - back;
                         let p0 = [0, 1, 2].map(|i| lo[i] + du[i] * st);
                         let q = |v: [f64; 3]| lensray::Vec3::<I16F16>::from_f64(v);
-                        let hq = ob.shape.intersect::<I16F16>(q(p0), q(du), I16F16::from_bits(-(1 << 30)), I16F16::MAX);
-                        let hf = ob.shape.intersect::<f32>(lensray::Vec3::<f32>::from_f64(p0), lensray::Vec3::<f32>::from_f64(du), -16384.0, f32::MAX);
-                        println!("      rounded exact local ray from {back} before closest approach: Q {:?} f32 {:?}", hq.map(|h| (h.t.to_num::<f64>() + st, h.p.to_f64())), hf.map(|h| (h.t as f64 + st, h.p.to_f64())));
+                        let hq = ob
+                            .shape
+                            .intersect::<I16F16>(q(p0), q(du), I16F16::from_bits(-(1 << 30)), I16F16::MAX);
+                        let hf = ob.shape.intersect::<f32>(
+                            lensray::Vec3::<f32>::from_f64(p0),
+                            lensray::Vec3::<f32>::from_f64(du),
+                            -16384.0,
+                            f32::MAX,
+                        );
+                        println!(
+                            "      rounded exact local ray from {back} before closest approach: Q {:?} f32 {:?}",
+                            hq.map(|h| (h.t.to_num::<f64>() + st, h.p.to_f64())),
+                            hf.map(|h| (h.t as f64 + st, h.p.to_f64()))
+                        );
                     }
                 }
             }
             for (l, u) in px.lights.iter().enumerate() {
                 if !u.blockers.is_empty() {
-                    println!("    light {l}: blockers {:?}", u.blockers.iter().map(|(j, m, b)| (j, s64.objects[*j].shape, m.hit, m.face, b)).collect::<Vec<_>>());
+                    println!(
+                        "    light {l}: blockers {:?}",
+                        u.blockers
+                            .iter()
+                            .map(|(j, m, b)| (j, s64.objects[*j].shape, m.hit, m.face, b))
+                            .collect::<Vec<_>>()
+                    );
                 }
             }
         }

@@ -97,12 +97,15 @@ impl Object64 {
                     return None;
                 }
                 let h = disc.sqrt();
-                [(-b - h) / a, (-b + h) / a].into_iter().find(|&t| ok(t)).map(|t| Hit64 {
-                    t,
-                    p: at(t),
-                    n: at(t),
-                    part: 5,
-                })
+                [(-b - h) / a, (-b + h) / a]
+                    .into_iter()
+                    .find(|&t| ok(t))
+                    .map(|t| Hit64 {
+                        t,
+                        p: at(t),
+                        n: at(t),
+                        part: 5,
+                    })
             }
             Shape::Cube => {
                 let (near, far, axis_n, axis_f) = slabs(lo, ld)?;
@@ -121,7 +124,12 @@ impl Object64 {
                 p[axis] = s;
                 let mut n = [0.0; 3];
                 n[axis] = s;
-                Some(Hit64 { t, p, n, part: axis as u8 })
+                Some(Hit64 {
+                    t,
+                    p,
+                    n,
+                    part: axis as u8,
+                })
             }
             Shape::Cylinder | Shape::Cone => {
                 let cone = self.shape == Shape::Cone;
@@ -168,7 +176,10 @@ impl Object64 {
         let du = scale(ld, 1.0 / len);
         // The ray's closest approach to the origin's axis lines, in object units.
         let perp = |mask: V| {
-            let (o2, d2) = ([lo[0] * mask[0], lo[1] * mask[1], lo[2] * mask[2]], [du[0] * mask[0], du[1] * mask[1], du[2] * mask[2]]);
+            let (o2, d2) = (
+                [lo[0] * mask[0], lo[1] * mask[1], lo[2] * mask[2]],
+                [du[0] * mask[0], du[1] * mask[1], du[2] * mask[2]],
+            );
             let dd = dot(d2, d2);
             let tc = if dd > 0.0 { -dot(o2, d2) / dd } else { 0.0 };
             (dot(add(o2, scale(d2, tc)), add(o2, scale(d2, tc))).sqrt(), tc)
@@ -283,7 +294,11 @@ fn side_roots(o: V, d: V, cone: bool) -> Vec<f64> {
     let (a, b, c) = if cone {
         cone_abc(o, d)
     } else {
-        (d[0] * d[0] + d[2] * d[2], o[0] * d[0] + o[2] * d[2], o[0] * o[0] + o[2] * o[2] - 1.0)
+        (
+            d[0] * d[0] + d[2] * d[2],
+            o[0] * d[0] + o[2] * d[2],
+            o[0] * o[0] + o[2] * o[2] - 1.0,
+        )
     };
     if a == 0.0 {
         return if b != 0.0 { vec![-c / (2.0 * b)] } else { vec![] };
@@ -388,7 +403,10 @@ impl Scene64 {
                     let m = match k {
                         "scale" => Mat34::scale(three()),
                         "translate" => Mat34::translate(three()),
-                        _ => Mat34::rotate(["x", "y", "z"].iter().position(|&a| a == w[1]).expect("axis"), num(w[2])),
+                        _ => Mat34::rotate(
+                            ["x", "y", "z"].iter().position(|&a| a == w[1]).expect("axis"),
+                            num(w[2]),
+                        ),
                     };
                     let o = obj.expect("object");
                     o.to_world = m.after(&o.to_world);

@@ -476,8 +476,14 @@ impl Kernels for I16F16 {
         (small(o) && small(d)).then(|| crate::number::quadric::side_roots(o, d, cone, close))
     }
     const RECHECK: bool = true;
-    fn exact_point(rows: &[FixedRow; 3], o: [Self; 3], d: &FixedDir, s: Self) -> Option<[Self; 3]> {
-        crate::number::quadric::exact_point(rows, o, d, s)
+    fn exact_point(
+        rows: &[FixedRow; 3],
+        o: [Self; 3],
+        d: &FixedDir,
+        s: Self,
+        rim: Option<[Self; 3]>,
+    ) -> Option<([Self; 3], Option<bool>)> {
+        crate::number::q16::exact_point(rows, o, d, s, rim)
     }
     #[inline]
     fn acc_zero() -> i64 {

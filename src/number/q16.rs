@@ -122,6 +122,88 @@ impl FixedDir {
     }
 }
 
+/// `rows · (o + s d)` rounded once to Q16.16 (`Kernels::exact_point`): the
+/// world point, exact at scale 2^-(16 + g) with g = −d.e (`o 2^g + m s`,
+/// each term below 2^62), split into its Q16.16 part and the g bits below,
+/// each through the rows' exact sums. Against the usual re-origin (rounded
+/// in the world, then each row's sum rounded) it drops the world rounding,
+/// which the object's inverse scale multiplies. With `rim` (a unit
+/// direction), also whether the line through the point along it meets the
+/// unit sphere, from the point at 2^-30 (see [`within_rim`]).
+#[cold]
+#[inline(never)]
+pub(crate) fn exact_point(
+    rows: &[FixedRow; 3],
+    o: [I16F16; 3],
+    d: &FixedDir,
+    s: I16F16,
+    rim: Option<[I16F16; 3]>,
+) -> Option<([I16F16; 3], Option<bool>)> {
+    let g = d.e.checked_neg().filter(|g| (1..=30).contains(g))? as u32;
+    let (mut hi, mut lo) = ([I16F16::ZERO; 3], [I16F16::ZERO; 3]);
+    for i in 0..3 {
+        if d.m[i].unsigned_abs() >= 1 << 31 {
+            return None;
+        }
+        let p = ((o[i].to_bits() as i64) << g) + mul_once(d.m[i], s.to_bits() as i64);
+        let h = p >> g;
+        if h != h as i32 as i64 {
+            return None;
+        }
+        hi[i] = I16F16::from_bits(h as i32);
+        // 0 <= p − h 2^g < 2^30.
+        lo[i] = I16F16::from_bits((p - (h << g)) as i32);
+    }
+    let (mut fine, mut point) = ([0i64; 3], [I16F16::ZERO; 3]);
+    for j in 0..3 {
+        let r = &rows[j];
+        let q = split_row(r, hi, lo, g);
+        // The same at 2^-30 (shift <= 30; a shift below 14 only for huge rows).
+        fine[j] = if r.shift > 14 {
+            shr_round(q, r.shift - 14)
+        } else {
+            q << (14 - r.shift)
+        };
+        point[j] = I16F16::from_bits(sat32(if r.shift == 0 { q } else { shr_round(q, r.shift) }));
+    }
+    Some((point, rim.and_then(|u| within_rim(fine, u))))
+}
+
+/// [`mul_i64`] as one out-of-line copy for the cold kernels (the M0's flash).
+#[inline(never)]
+fn mul_once(a: i64, b: i64) -> i64 {
+    mul_i64(a, b)
+}
+
+/// `row · (hi + lo 2^-g)` (+ translation) at scale 2^-(16 + shift): both
+/// sums below 2^63 (the rows' bounds). One copy (the M0's flash).
+#[inline(never)]
+fn split_row(r: &FixedRow, hi: [I16F16; 3], lo: [I16F16; 3], g: u32) -> i64 {
+    r.exact(hi, true) + shr_round(r.exact(lo, false), g)
+}
+
+/// Whether the line through `p` (at 2^-30, near its closest approach to the
+/// centre) along the unit `u` meets the unit sphere: 1 − |p|² + (p·u)² >= 0
+/// at 2^-60. `u`'s rounding (2^-17) enters only through p·u, small there.
+/// `None` where |p| is 2 or more on an axis (no rim in doubt).
+#[inline(never)]
+fn within_rim(p: [i64; 3], u: [I16F16; 3]) -> Option<bool> {
+    let (mut pp, mut pu) = (0u64, 0i64);
+    for i in 0..3 {
+        if p[i].unsigned_abs() >= 1 << 31 {
+            return None;
+        }
+        pp += mul_once(p[i], p[i]) as u64;
+        pu += mul_once(p[i], u[i].to_bits() as i64);
+    }
+    // p·u at 2^-46, then at 2^-30 (at most 2^33 here).
+    let pu = shr_round(pu, 16);
+    if pu.unsigned_abs() >= 1 << 31 {
+        return None;
+    }
+    Some(((1u64 << 60) + mul_once(pu, pu) as u64) >= pp)
+}
+
 /// `n / d` rounded to nearest (ties away from zero), for `d != 0`, in i64:
 /// through [`Recip`] when `|d|` fits 32 bits.
 #[inline]

@@ -9,12 +9,9 @@
 //! `B` and the root, and a ray nearly along a cone's line (A near 0) keeps
 //! its one finite root, where rounding each product to 2⁻¹⁶ moved hits near
 //! a cone's apex by 0.01 of its size.
-//!
-//! Also the exact object-space point a bounded shape's close decisions are
-//! taken again from ([`exact_point`]).
 
-use crate::number::q16::{div_round_i64, FixedDir, FixedRow};
-use crate::number::wide::{isqrt_round_u64, mul_i32, mul_i64, mul_u32};
+use crate::number::q16::div_round_i64;
+use crate::number::wide::{isqrt_round_u64, mul_i32, mul_u32};
 use fixed::types::I16F16;
 
 /// `n / d` as Q16.16 bits, rounded and saturated, for `d != 0`.
@@ -30,7 +27,7 @@ fn ratio_q16(n: i64, d: i64) -> I16F16 {
 
 /// `a · b` exactly, from four 32 × 32-bit products: no i128 multiply (a
 /// library call, and stack, on the Cortex-M0).
-pub(crate) fn mul_wide(a: i64, b: i64) -> i128 {
+fn mul_wide(a: i64, b: i64) -> i128 {
     let (ua, ub) = (a.unsigned_abs(), b.unsigned_abs());
     let (a0, a1, b0, b1) = (ua as u32, (ua >> 32) as u32, ub as u32, (ub >> 32) as u32);
     let mid = mul_u32(a0, b1) as u128 + mul_u32(a1, b0) as u128;
@@ -40,28 +37,6 @@ pub(crate) fn mul_wide(a: i64, b: i64) -> i128 {
     } else {
         p as i128
     }
-}
-
-/// `rows · (o + s d)` rounded once to Q16.16 (`Kernels::exact_point`): the
-/// world point exactly at scale 2^-(16 + g), g = −d.e (`o 2^g + m s`, each
-/// term below 2^62), each row's sum exactly in an i128. Against the usual
-/// re-origin (the point rounded in the world, then each row's sum) it drops
-/// the world rounding, which the object's inverse scale multiplies.
-#[cold]
-#[inline(never)]
-pub(crate) fn exact_point(rows: &[FixedRow; 3], o: [I16F16; 3], d: &FixedDir, s: I16F16) -> Option<[I16F16; 3]> {
-    let g = d.e.checked_neg().filter(|g| (0..=30).contains(g))? as u32;
-    if d.m.iter().any(|m| m.unsigned_abs() >= 1 << 31) {
-        return None;
-    }
-    let p: [i64; 3] = core::array::from_fn(|i| ((o[i].to_bits() as i64) << g) + mul_i64(d.m[i], s.to_bits() as i64));
-    Some(core::array::from_fn(|j| {
-        let r = &rows[j];
-        let sum = (0..3).map(|i| mul_wide(r.m[i] as i64, p[i])).sum::<i128>() + ((r.t as i128) << g);
-        let k = g + r.shift;
-        let q = if k == 0 { sum } else { (sum + (1i128 << (k - 1))) >> k };
-        I16F16::from_bits(q.clamp(i32::MIN as i128, i32::MAX as i128) as i32)
-    }))
 }
 
 /// The rounded square root of an i128 `x >= 0`, as an i64: scaled into a u64

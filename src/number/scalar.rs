@@ -198,9 +198,17 @@ mod kernels {
         const RECHECK: bool = false;
 
         /// The object-space point `rows · (o + s d)` of a world ray `o + s d`
-        /// (`d` as held precisely), computed exactly and rounded once; `None`
-        /// where the type has no such kernel (f32) or the scales do not fit.
-        fn exact_point(_rows: &[Self::Row; 3], _o: [Self; 3], _d: &Self::Dir, _s: Self) -> Option<[Self; 3]> {
+        /// (`d` as held precisely), computed exactly and rounded once, and
+        /// with `rim` (a unit direction) whether the line through the exact
+        /// point along it meets the unit sphere; `None` where the type has no
+        /// such kernel (f32) or the scales do not fit.
+        fn exact_point(
+            _rows: &[Self::Row; 3],
+            _o: [Self; 3],
+            _d: &Self::Dir,
+            _s: Self,
+            _rim: Option<[Self; 3]>,
+        ) -> Option<([Self; 3], Option<bool>)> {
             None
         }
 

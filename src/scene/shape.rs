@@ -76,7 +76,7 @@ impl Shape {
     pub fn intersect<S: Scalar>(self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
         match self {
             Shape::Plane => plane(o, d, t_min, t_max),
-            _ => self.intersect_bounded(o, d, t_min, t_max, &mut false),
+            _ => self.intersect_bounded(o, d, t_min, t_max, &mut false, None),
         }
     }
 
@@ -86,6 +86,8 @@ impl Shape {
     /// Sets `close` where a decision (a rim, an edge, a side's end, a cap's
     /// rim, a tangent) fell within [`close_band`] of its boundary: Q16.16's
     /// object-space ray may be on the wrong side there (`Kernels::RECHECK`).
+    /// `rim`, where given, decides whether a sphere is met (from the exact
+    /// ray: `Kernels::exact_point`); a grazing ray then takes the tangent point.
     pub(crate) fn intersect_bounded<S: Scalar>(
         self,
         o: Vec3<S>,
@@ -93,9 +95,10 @@ impl Shape {
         t_min: S,
         t_max: S,
         close: &mut bool,
+        rim: Option<bool>,
     ) -> Option<LocalHit<S>> {
         match self {
-            Shape::Sphere => sphere(o, d, t_min, t_max, close),
+            Shape::Sphere => sphere(o, d, t_min, t_max, close, rim),
             Shape::Plane => None,
             Shape::Cube => cube(o, d, t_min, t_max, close),
             Shape::Cylinder => cylinder(o, d, t_min, t_max, close),
@@ -128,7 +131,14 @@ fn inside<S: Scalar>(t: S, t_min: S, t_max: S) -> bool {
     t > t_min && t < t_max
 }
 
-fn sphere<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, close: &mut bool) -> Option<LocalHit<S>> {
+fn sphere<S: Scalar>(
+    o: Vec3<S>,
+    d: Vec3<S>,
+    t_min: S,
+    t_max: S,
+    close: &mut bool,
+    rim: Option<bool>,
+) -> Option<LocalHit<S>> {
     // Closest approach along the (unit) ray, and the perpendicular offset there.
     let tc = o.dot(d).neg();
     let perp = o + d * tc;
@@ -136,9 +146,12 @@ fn sphere<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, close: &mut boo
     let h2 = S::ONE.sub(perp.dot(perp));
     // 1 − |perp|² moves by twice the offset's error: near the rim.
     *close |= h2.abs() < close_band::<S>().add(close_band());
-    if h2 < S::ZERO {
-        return None;
-    }
+    let h2 = match rim {
+        Some(false) => return None,
+        Some(true) => h2.max(S::ZERO),
+        None if h2 < S::ZERO => return None,
+        None => h2,
+    };
     let h = h2.sqrt();
     let t = [tc.sub(h), tc.add(h)].into_iter().find(|&t| inside(t, t_min, t_max))?;
     let p = o + d * t;
@@ -290,7 +303,8 @@ fn cylinder<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, close: &mut b
         }
     });
     if let Some((t0, t1)) = side {
-        best = side_hit(o, d, t0, t_min, t_max, close, normal).or_else(|| side_hit(o, d, t1, t_min, t_max, close, normal));
+        best =
+            side_hit(o, d, t0, t_min, t_max, close, normal).or_else(|| side_hit(o, d, t1, t_min, t_max, close, normal));
     }
     best = nearer(best, cap(o, d, S::ONE, t_min, t_max, close));
     nearer(best, cap(o, d, S::ONE.neg(), t_min, t_max, close))
