@@ -115,9 +115,11 @@ fn near_tangent_decisions_agree_with_f64() {
         assert!(rays > 2000, "{shape:?}: {rays} rays");
         // Rays 0 to 4 Q16.16 steps (up to 6e-5 world units, 3e-4 object
         // units) from the flip. Measured on these 400 silhouettes a shape:
-        // without the exact recheck 9.4 % (sphere) to 13.1 % (cube) went the
-        // other way; with it 4.0 % (cube) to 7.7 % (cone): the point and
-        // direction rounded once to 2^-17 remain (docs/accuracy.md, fix 10).
-        assert!(wrong * 100 <= rays * 8, "{shape:?}: {wrong} of {rays} unlike f64");
+        // without the recheck 9.4 % (sphere) to 13.1 % (cube) went the other
+        // way; with it none for the sphere (decided exactly) and 4.0 % (cube)
+        // to 7.7 % (cone) for the others, whose second pass still rounds its
+        // point and direction to 2^-17 (docs/accuracy.md, fix 10).
+        let bound = if shape == Shape::Sphere { 0 } else { rays * 8 / 100 };
+        assert!(wrong <= bound, "{shape:?}: {wrong} of {rays} unlike f64");
     }
 }
