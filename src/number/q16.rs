@@ -140,32 +140,37 @@ pub(crate) fn exact_point(
     rim: Option<[I16F16; 3]>,
 ) -> Option<([I16F16; 3], Option<bool>)> {
     let g = d.e.checked_neg().filter(|g| (1..=30).contains(g))? as u32;
-    let (mut hi, mut lo) = ([I16F16::ZERO; 3], [I16F16::ZERO; 3]);
+    let (mut hi, mut lo) = ([0i64; 3], [0i64; 3]);
     for i in 0..3 {
         if d.m[i].unsigned_abs() >= 1 << 31 {
             return None;
         }
         let p = ((o[i].to_bits() as i64) << g) + mul_once(d.m[i], s.to_bits() as i64);
-        let h = p >> g;
-        if h != h as i32 as i64 {
+        hi[i] = p >> g;
+        if hi[i] != hi[i] as i32 as i64 {
             return None;
         }
-        hi[i] = I16F16::from_bits(h as i32);
-        // 0 <= p − h 2^g < 2^30.
-        lo[i] = I16F16::from_bits((p - (h << g)) as i32);
+        // 0 <= p − hi 2^g < 2^30.
+        lo[i] = p - (hi[i] << g);
     }
-    let (mut fine, mut point) = ([0i64; 3], [I16F16::ZERO; 3]);
-    for j in 0..3 {
-        let r = &rows[j];
-        let q = split_row(r, hi, lo, g);
-        // The same at 2^-30 (shift <= 30; a shift below 14 only for huge rows).
-        fine[j] = if r.shift > 14 {
-            shr_round(q, r.shift - 14)
+    // Each part through the rows' exact sums (31 significant bits kept: 2^-31
+    // of the point's size), then added at 2^-30.
+    let (a, b) = (
+        FixedDir::exact_rows(rows, hi, true, -16),
+        FixedDir::exact_rows(rows, lo, false, -16 - g as i32),
+    );
+    let at30 = |m: i64, e: i32| {
+        let k = e + 30;
+        if k >= 0 {
+            m << k.min(32)
+        } else if k > -62 {
+            shr_round(m, (-k) as u32)
         } else {
-            q << (14 - r.shift)
-        };
-        point[j] = I16F16::from_bits(sat32(if r.shift == 0 { q } else { shr_round(q, r.shift) }));
-    }
+            0
+        }
+    };
+    let fine: [i64; 3] = core::array::from_fn(|j| at30(a.m[j], a.e) + at30(b.m[j], b.e));
+    let point = fine.map(|x| I16F16::from_bits(sat32(shr_round(x, 14))));
     Some((point, rim.and_then(|u| within_rim(fine, u))))
 }
 
@@ -173,13 +178,6 @@ pub(crate) fn exact_point(
 #[inline(never)]
 fn mul_once(a: i64, b: i64) -> i64 {
     mul_i64(a, b)
-}
-
-/// `row · (hi + lo 2^-g)` (+ translation) at scale 2^-(16 + shift): both
-/// sums below 2^63 (the rows' bounds). One copy (the M0's flash).
-#[inline(never)]
-fn split_row(r: &FixedRow, hi: [I16F16; 3], lo: [I16F16; 3], g: u32) -> i64 {
-    r.exact(hi, true) + shr_round(r.exact(lo, false), g)
 }
 
 /// Whether the line through `p` (at 2^-30, near its closest approach to the
