@@ -80,8 +80,9 @@ fn every_regression_scene_meets_the_floors() {
 /// measured when filed, with a small margin), so that none can get worse unseen.
 #[test]
 fn open_regression_scenes_get_no_worse() {
-    const HELD: [(&str, f64, f64, f64); 7] = [
+    const HELD: [(&str, f64, f64, f64); 8] = [
         ("seed-5014-pinhole", 40.5, 0.999, 2.45),
+        ("seed-5118-pinhole", 47.4, 0.999, 2.1),
         ("seed-92-pinhole", 43.8, 0.999, 2.1),
         ("seed-5116-pinhole", 47.0, 0.999, 2.2),
         ("seed-5163-pinhole", 45.0, 0.999, 2.1),
