@@ -187,12 +187,20 @@ impl<S: Scalar> Affine<S> {
     }
 
     /// The object-space point of the world ray `o + s d` (`d` held
-    /// precisely), exactly and rounded once, and with `rim` whether the line
+    /// precisely), exactly and rounded once, and with `rim` (or `cube`) whether the line
     /// along it through the exact point meets the unit sphere, where the
     /// type has the kernel (`Kernels::exact_point`).
     #[inline]
-    pub fn exact_point(&self, o: Vec3<S>, d: &S::Dir, s: S, rim: Option<Vec3<S>>) -> Option<(Vec3<S>, Option<bool>)> {
-        S::exact_point(&self.rows, o.to_array(), d, s, rim.map(Vec3::to_array)).map(|(p, r)| (Vec3::from_array(p), r))
+    pub fn exact_point(
+        &self,
+        o: Vec3<S>,
+        d: &S::Dir,
+        s: S,
+        rim: Option<Vec3<S>>,
+        cube: bool,
+    ) -> Option<(Vec3<S>, Option<(bool, u8)>)> {
+        S::exact_point(&self.rows, o.to_array(), d, s, rim.map(Vec3::to_array), cube)
+            .map(|(p, r)| (Vec3::from_array(p), r))
     }
 
     /// One coordinate of a transformed point (`i` in 0..3).

@@ -482,8 +482,9 @@ impl Kernels for I16F16 {
         d: &FixedDir,
         s: Self,
         rim: Option<[Self; 3]>,
-    ) -> Option<([Self; 3], Option<bool>)> {
-        crate::number::q16::exact_point(rows, o, d, s, rim)
+        cube: bool,
+    ) -> Option<([Self; 3], Option<(bool, u8)>)> {
+        crate::number::q16::exact_point(rows, o, d, s, rim, cube)
     }
     #[inline]
     fn acc_zero() -> i64 {

@@ -200,7 +200,8 @@ mod kernels {
         /// The object-space point `rows · (o + s d)` of a world ray `o + s d`
         /// (`d` as held precisely), computed exactly and rounded once, and
         /// with `rim` (a unit direction) whether the line through the exact
-        /// point along it meets the unit sphere; `None` where the type has no
+        /// point along it meets the unit sphere, with `cube` whether the ray
+        /// meets the cube and through which axis's face; `None` where the type has no
         /// such kernel (f32) or the scales do not fit.
         fn exact_point(
             _rows: &[Self::Row; 3],
@@ -208,7 +209,8 @@ mod kernels {
             _d: &Self::Dir,
             _s: Self,
             _rim: Option<[Self; 3]>,
-        ) -> Option<([Self; 3], Option<bool>)> {
+            _cube: bool,
+        ) -> Option<([Self; 3], Option<(bool, u8)>)> {
             None
         }
 

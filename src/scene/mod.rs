@@ -376,9 +376,10 @@ impl<S: Scalar> Object<S> {
     /// A close decision's second pass (`Kernels::RECHECK`): the object-space
     /// point where the ray `o + s d` (`len` the length of `d`: 1 for a unit
     /// direction) passes closest to the centre, exactly and rounded once,
-    /// with its world distance, and for a sphere whether the ray meets it
-    /// (decided from the exact point: its rim is a tangent, where a point
-    /// rounded to 2⁻¹⁷ still leaves 1e-5 of doubt; seeds 59, 9171). `local` is the first pass's ray (origin,
+    /// with its world distance, and for a sphere or a cube whether the ray
+    /// meets it (and the cube's face), decided from the exact point and
+    /// direction: at a sphere's rim or a cube's edge a point rounded to
+    /// 2⁻¹⁷ still leaves 1e-5 of doubt (seeds 59, 9171, 92). `local` is the first pass's ray (origin,
     /// unit direction, world distance of the origin); local distances are
     /// world ones times `k` (`by_len`) or over it. Cold, out of line: taken
     /// by a few rays an object.
@@ -392,12 +393,12 @@ impl<S: Scalar> Object<S> {
         local: (Vec3<S>, Vec3<S>, S),
         by_len: bool,
         k: S,
-    ) -> Option<(Vec3<S>, S, Option<bool>)> {
+    ) -> Option<(Vec3<S>, S, Option<(bool, u8)>)> {
         let (lo, ld, base) = local;
         let l = lo.dot(ld).neg();
         let s = base.add(if by_len { l.div(k) } else { l.mul(k) }).div(len);
         let rim = (self.shape == Shape::Sphere).then_some(ld);
-        let (p, inside) = self.to_object.exact_point(o, d, s, rim)?;
+        let (p, inside) = self.to_object.exact_point(o, d, s, rim, self.shape == Shape::Cube)?;
         Some((p, s.mul(len), inside))
     }
 

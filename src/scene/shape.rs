@@ -86,8 +86,9 @@ impl Shape {
     /// Sets `close` where a decision (a rim, an edge, a side's end, a cap's
     /// rim, a tangent) fell within [`close_band`] of its boundary: Q16.16's
     /// object-space ray may be on the wrong side there (`Kernels::RECHECK`).
-    /// `rim`, where given, decides whether a sphere is met (from the exact
-    /// ray: `Kernels::exact_point`); a grazing ray then takes the tangent point.
+    /// `exact`, where given, decides whether a sphere or a cube is met and
+    /// the cube's entry face (from the exact ray: `Kernels::exact_point`); a
+    /// grazing ray then takes the tangent point or that face's slab time.
     pub(crate) fn intersect_bounded<S: Scalar>(
         self,
         o: Vec3<S>,
@@ -95,12 +96,12 @@ impl Shape {
         t_min: S,
         t_max: S,
         close: &mut bool,
-        rim: Option<bool>,
+        exact: Option<(bool, u8)>,
     ) -> Option<LocalHit<S>> {
         match self {
-            Shape::Sphere => sphere(o, d, t_min, t_max, close, rim),
+            Shape::Sphere => sphere(o, d, t_min, t_max, close, exact.map(|e| e.0)),
             Shape::Plane => None,
-            Shape::Cube => cube(o, d, t_min, t_max, close),
+            Shape::Cube => cube(o, d, t_min, t_max, close, exact),
             Shape::Cylinder => cylinder(o, d, t_min, t_max, close),
             Shape::Cone => cone(o, d, t_min, t_max, close),
         }
@@ -178,7 +179,14 @@ fn plane<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalH
     })
 }
 
-fn cube<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, close: &mut bool) -> Option<LocalHit<S>> {
+fn cube<S: Scalar>(
+    o: Vec3<S>,
+    d: Vec3<S>,
+    t_min: S,
+    t_max: S,
+    close: &mut bool,
+    exact: Option<(bool, u8)>,
+) -> Option<LocalHit<S>> {
     let (o, d) = (o.to_array(), d.to_array());
     let (mut t_near, mut t_far) = (S::MAX.neg(), S::MAX);
     let (mut near_axis, mut far_axis) = (0usize, 0usize);
@@ -196,6 +204,16 @@ fn cube<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, close: &mut bool)
             t_far = t2;
             far_axis = i;
         }
+    }
+    match exact {
+        Some((false, _)) => return None,
+        // The exact entry face (at an edge both faces' times agree within
+        // the band; the far end no earlier).
+        Some((true, k)) => {
+            near_axis = k as usize;
+            t_far = t_far.max(t_near);
+        }
+        None => {}
     }
     if t_near > t_far {
         // Passing just beyond an edge or a corner.
