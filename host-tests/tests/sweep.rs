@@ -70,7 +70,7 @@ fn under(files: &[std::path::PathBuf], psnr: f64, within2: f64, line: f64) -> Ve
 #[test]
 fn every_regression_scene_meets_the_floors() {
     let files = corpus("sweep-regressions");
-    assert!(files.len() >= 52, "the corpus lost scenes");
+    assert!(files.len() >= 53, "the corpus lost scenes");
     let bad = under(&files, MIN_PSNR, MIN_WITHIN2, MAX_LINE_160);
     assert!(bad.is_empty(), "under the floors: {bad:?}");
 }
@@ -80,10 +80,9 @@ fn every_regression_scene_meets_the_floors() {
 /// measured when filed, with a small margin), so that none can get worse unseen.
 #[test]
 fn open_regression_scenes_get_no_worse() {
-    const HELD: [(&str, f64, f64, f64); 8] = [
+    const HELD: [(&str, f64, f64, f64); 7] = [
         ("seed-5014-pinhole", 40.5, 0.999, 2.45),
         ("seed-5118-pinhole", 47.4, 0.999, 2.1),
-        ("seed-92-pinhole", 43.8, 0.999, 2.1),
         ("seed-5116-pinhole", 47.0, 0.999, 2.2),
         ("seed-5163-pinhole", 45.0, 0.999, 2.1),
         ("seed-9206-pinhole", 43.8, 0.999, 3.7),
