@@ -198,7 +198,7 @@ impl<S: Scalar> Affine<S> {
         s: S,
         rim: Option<Vec3<S>>,
         cube: bool,
-    ) -> Option<(Vec3<S>, Option<(bool, u8)>)> {
+    ) -> Option<(Vec3<S>, crate::number::Decided)> {
         S::exact_point(&self.rows, o.to_array(), d, s, rim.map(Vec3::to_array), cube)
             .map(|(p, r)| (Vec3::from_array(p), r))
     }

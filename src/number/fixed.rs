@@ -483,7 +483,7 @@ impl Kernels for I16F16 {
         s: Self,
         rim: Option<[Self; 3]>,
         cube: bool,
-    ) -> Option<([Self; 3], Option<(bool, u8)>)> {
+    ) -> Option<([Self; 3], crate::number::q16::Decided)> {
         crate::number::q16::exact_point(rows, o, d, s, rim, cube)
     }
     #[inline]

@@ -122,6 +122,10 @@ impl FixedDir {
     }
 }
 
+/// A shape's hit-or-miss decided exactly, with the cube's entry axis
+/// (`None`: not decided).
+pub(crate) type Decided = Option<(bool, u8)>;
+
 /// `rows · (o + s d)` rounded once to Q16.16 (`Kernels::exact_point`): the
 /// world point, exact at scale 2^-(16 + g) with g = −d.e (`o 2^g + m s`,
 /// each term below 2^62), split into its Q16.16 part and the g bits below,
@@ -141,7 +145,7 @@ pub(crate) fn exact_point(
     s: I16F16,
     rim: Option<[I16F16; 3]>,
     cube: bool,
-) -> Option<([I16F16; 3], Option<(bool, u8)>)> {
+) -> Option<([I16F16; 3], Decided)> {
     let g = d.e.checked_neg().filter(|g| (1..=30).contains(g))? as u32;
     let (mut hi, mut lo) = ([0i64; 3], [0i64; 3]);
     for i in 0..3 {

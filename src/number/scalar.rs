@@ -210,7 +210,7 @@ mod kernels {
             _s: Self,
             _rim: Option<[Self; 3]>,
             _cube: bool,
-        ) -> Option<([Self; 3], Option<(bool, u8)>)> {
+        ) -> Option<([Self; 3], crate::number::q16::Decided)> {
             None
         }
 

@@ -393,7 +393,7 @@ impl<S: Scalar> Object<S> {
         local: (Vec3<S>, Vec3<S>, S),
         by_len: bool,
         k: S,
-    ) -> Option<(Vec3<S>, S, Option<(bool, u8)>)> {
+    ) -> Option<(Vec3<S>, S, crate::number::Decided)> {
         let (lo, ld, base) = local;
         let l = lo.dot(ld).neg();
         let s = base.add(if by_len { l.div(k) } else { l.mul(k) }).div(len);
