@@ -15,6 +15,7 @@ use rayon::prelude::*;
 pub mod convergence;
 pub mod panel;
 pub mod passes;
+pub mod reference64;
 pub mod sheet;
 pub mod sweep;
 

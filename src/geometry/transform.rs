@@ -186,6 +186,23 @@ impl<S: Scalar> Affine<S> {
         S::plane_hit(&self.rows, o.to_array(), d, t_min, t_max, checker)
     }
 
+    /// The object-space point of the world ray `o + s d` (`d` held
+    /// precisely), exactly and rounded once, and with `rim` (or `cube`) whether the line
+    /// along it through the exact point meets the unit sphere, where the
+    /// type has the kernel (`Kernels::exact_point`).
+    #[inline]
+    pub fn exact_point(
+        &self,
+        o: Vec3<S>,
+        d: &S::Dir,
+        s: S,
+        rim: Option<Vec3<S>>,
+        cube: bool,
+    ) -> Option<(Vec3<S>, crate::number::Decided)> {
+        S::exact_point(&self.rows, o.to_array(), d, s, rim.map(Vec3::to_array), cube)
+            .map(|(p, r)| (Vec3::from_array(p), r))
+    }
+
     /// One coordinate of a transformed point (`i` in 0..3).
     #[inline]
     pub fn point_coord(&self, i: usize, p: Vec3<S>) -> S {

@@ -469,11 +469,22 @@ impl Kernels for I16F16 {
     ) -> Option<(Self, Self, Self)> {
         crate::number::plane::plane_hit(rows, o, d, t_min, t_max, checker)
     }
-    fn side_roots(o: [Self; 3], d: [Self; 3], cone: bool) -> Option<Option<(Self, Self)>> {
+    fn side_roots(o: [Self; 3], d: [Self; 3], cone: bool, close: &mut bool) -> Option<Option<(Self, Self)>> {
         // The exact sums fit an i64 for object-space values below 4096; only
         // nonsense inputs (a corrupt baked scene) go beyond: the generic quadratic.
         let small = |v: [Self; 3]| v.iter().all(|x| x.to_bits().unsigned_abs() < 1 << 28);
-        (small(o) && small(d)).then(|| crate::number::quadric::side_roots(o, d, cone))
+        (small(o) && small(d)).then(|| crate::number::quadric::side_roots(o, d, cone, close))
+    }
+    const RECHECK: bool = true;
+    fn exact_point(
+        rows: &[FixedRow; 3],
+        o: [Self; 3],
+        d: &FixedDir,
+        s: Self,
+        rim: Option<[Self; 3]>,
+        cube: bool,
+    ) -> Option<([Self; 3], crate::number::q16::Decided)> {
+        crate::number::q16::exact_point(rows, o, d, s, rim, cube)
     }
     #[inline]
     fn acc_zero() -> i64 {

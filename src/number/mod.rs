@@ -33,6 +33,7 @@ pub(crate) mod quadric;
 mod scalar;
 pub(crate) mod wide;
 
+pub(crate) use q16::Decided;
 pub use q16::{FixedDir, FixedRow};
 pub use scalar::{BakeScalar, Scalar};
 // The unit tests check kernels directly.

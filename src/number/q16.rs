@@ -122,6 +122,151 @@ impl FixedDir {
     }
 }
 
+/// A shape's hit-or-miss decided exactly, with the cube's entry axis
+/// (`None`: not decided).
+pub(crate) type Decided = Option<(bool, u8)>;
+
+/// `rows · (o + s d)` rounded once to Q16.16 (`Kernels::exact_point`): the
+/// world point, exact at scale 2^-(16 + g) with g = −d.e (`o 2^g + m s`,
+/// each term below 2^62), split into its Q16.16 part and the g bits below,
+/// each through the rows' exact sums. Against the usual re-origin (rounded
+/// in the world, then each row's sum rounded) it drops the world rounding,
+/// which the object's inverse scale multiplies. With `rim` (a unit
+/// direction), also whether the line through the point along it meets the
+/// unit sphere, from the point at 2^-30 (see [`within_rim`]); with `cube`,
+/// whether the ray meets the cube [-1, 1]³ and through which axis's face
+/// (see [`cube_entry`]).
+#[cold]
+#[inline(never)]
+pub(crate) fn exact_point(
+    rows: &[FixedRow; 3],
+    o: [I16F16; 3],
+    d: &FixedDir,
+    s: I16F16,
+    rim: Option<[I16F16; 3]>,
+    cube: bool,
+) -> Option<([I16F16; 3], Decided)> {
+    let g = d.e.checked_neg().filter(|g| (1..=30).contains(g))? as u32;
+    let (mut hi, mut lo) = ([0i64; 3], [0i64; 3]);
+    for i in 0..3 {
+        if d.m[i].unsigned_abs() >= 1 << 31 {
+            return None;
+        }
+        let p = ((o[i].to_bits() as i64) << g) + mul_once(d.m[i], s.to_bits() as i64);
+        hi[i] = p >> g;
+        if hi[i] != hi[i] as i32 as i64 {
+            return None;
+        }
+        // 0 <= p − hi 2^g < 2^30.
+        lo[i] = p - (hi[i] << g);
+    }
+    // Each part through the rows' exact sums (31 significant bits kept: 2^-31
+    // of the point's size), then added at 2^-30.
+    let (a, b) = (
+        FixedDir::exact_rows(rows, hi, true, -16),
+        FixedDir::exact_rows(rows, lo, false, -16 - g as i32),
+    );
+    let at30 = |m: i64, e: i32| {
+        let k = e + 30;
+        if k >= 0 {
+            m << k.min(32)
+        } else if k > -62 {
+            shr_round(m, (-k) as u32)
+        } else {
+            0
+        }
+    };
+    let fine: [i64; 3] = core::array::from_fn(|j| at30(a.m[j], a.e) + at30(b.m[j], b.e));
+    let point = fine.map(|x| I16F16::from_bits(sat32(shr_round(x, 14))));
+    let exact = if cube {
+        cube_entry(fine, rows, d)
+    } else {
+        rim.and_then(|u| within_rim(fine, u)).map(|x| (x, 0))
+    };
+    Some((point, exact))
+}
+
+/// `rows · d` (no translation) at one scale, cut to 31 bits: each row's
+/// exact i64 sum (products below 2^61), the finer rows shifted to the
+/// coarsest; a small frame (no i128), for the cube's test on the M0's stack.
+fn local_dir(rows: &[FixedRow; 3], d: &FixedDir) -> Option<[i64; 3]> {
+    let low = rows.iter().map(|r| r.shift).min()?;
+    let mut v = [0i64; 3];
+    for (x, r) in v.iter_mut().zip(rows) {
+        let sum = (0..3).fold(0i64, |acc, k| acc + mul_once(r.m[k] as i64, d.m[k]));
+        *x = sum >> (r.shift - low);
+    }
+    let big = v.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
+    let k = crate::number::wide::bits_u64(big).saturating_sub(31);
+    Some(v.map(|x| x >> k))
+}
+
+/// Whether the line `p + t D` (`p` at 2^-30, `D` the exact object-space
+/// direction, any length) meets the cube [-1, 1]³, and the
+/// axis of its entry face: the slabs' entry and exit times
+/// `(∓1 − p_i) / |D_i|` compared by cross-multiplication (numerators at
+/// 2^-27, below 2^31; mantissas below 2^31: exact in an i64). `None` where
+/// |p| is 8 or more on an axis. i32 arrays: the M0's stack.
+#[inline(never)]
+fn cube_entry(p: [i64; 3], rows: &[FixedRow; 3], d: &FixedDir) -> Option<(bool, u8)> {
+    let dir = local_dir(rows, d)?;
+    let (mut a, mut b, mut m) = ([0i32; 3], [0i32; 3], [0i32; 3]);
+    let mut k = 3;
+    for i in 0..3 {
+        if p[i].unsigned_abs() >= 1 << 33 {
+            return None;
+        }
+        let pi = if dir[i] < 0 { -p[i] } else { p[i] };
+        (a[i], b[i], m[i]) = (
+            ((-(1i64 << 30) - pi) >> 3) as i32,
+            (((1i64 << 30) - pi) >> 3) as i32,
+            dir[i].unsigned_abs() as i32,
+        );
+        if m[i] == 0 {
+            // Parallel to the slab: inside it or a miss.
+            if p[i].unsigned_abs() > 1 << 30 {
+                return Some((false, 0));
+            }
+        } else if k == 3 || mul_once(a[i] as i64, m[k] as i64) > mul_once(a[k] as i64, m[i] as i64) {
+            k = i;
+        }
+    }
+    if k == 3 {
+        return None;
+    }
+    // Entering through axis k's face no later than leaving through any.
+    let hit = (0..3).all(|j| m[j] == 0 || mul_once(a[k] as i64, m[j] as i64) <= mul_once(b[j] as i64, m[k] as i64));
+    Some((hit, k as u8))
+}
+
+/// [`mul_i64`] as one out-of-line copy for the cold kernels (the M0's flash).
+#[inline(never)]
+fn mul_once(a: i64, b: i64) -> i64 {
+    mul_i64(a, b)
+}
+
+/// Whether the line through `p` (at 2^-30, near its closest approach to the
+/// centre) along the unit `u` meets the unit sphere: 1 − |p|² + (p·u)² >= 0
+/// at 2^-60. `u`'s rounding (2^-17) enters only through p·u, small there.
+/// `None` where |p| is 2 or more on an axis (no rim in doubt).
+#[inline(never)]
+fn within_rim(p: [i64; 3], u: [I16F16; 3]) -> Option<bool> {
+    let (mut pp, mut pu) = (0u64, 0i64);
+    for i in 0..3 {
+        if p[i].unsigned_abs() >= 1 << 31 {
+            return None;
+        }
+        pp += mul_once(p[i], p[i]) as u64;
+        pu += mul_once(p[i], u[i].to_bits() as i64);
+    }
+    // p·u at 2^-46, then at 2^-30 (at most 2^33 here).
+    let pu = shr_round(pu, 16);
+    if pu.unsigned_abs() >= 1 << 31 {
+        return None;
+    }
+    Some(((1u64 << 60) + mul_once(pu, pu) as u64) >= pp)
+}
+
 /// `n / d` rounded to nearest (ties away from zero), for `d != 0`, in i64:
 /// through [`Recip`] when `|d|` fits 32 bits.
 #[inline]

@@ -54,10 +54,11 @@ fn sqrt_wide(x: i128) -> i64 {
 /// The side roots `(t0, t1)`, `t0 <= t1`, of the ray `o + t d` (object space,
 /// Q16.16), or `None` where the ray misses the side's surface (or, for the
 /// cylinder, runs along its axis). A cone's ray along one of its lines has one
-/// root, returned twice.
+/// root, returned twice. Sets `close` where the ray is within about 2⁻⁹ of
+/// tangent (the chord's half length √disc / A below it, or a miss as near).
 // Not inlined: its wide locals stay out of the callers' frames (the M0's 8 KiB of stack).
 #[inline(never)]
-pub(crate) fn side_roots(o: [I16F16; 3], d: [I16F16; 3], cone: bool) -> Option<(I16F16, I16F16)> {
+pub(crate) fn side_roots(o: [I16F16; 3], d: [I16F16; 3], cone: bool, close: &mut bool) -> Option<(I16F16, I16F16)> {
     let [ox, oy, oz] = o.map(I16F16::to_bits);
     let [dx, dy, dz] = d.map(I16F16::to_bits);
     let radial_a = mul_i32(dx, dx) + mul_i32(dz, dz);
@@ -83,6 +84,9 @@ pub(crate) fn side_roots(o: [I16F16; 3], d: [I16F16; 3], cone: bool) -> Option<(
         return Some((t, t));
     }
     let disc = mul_wide(b, b) - mul_wide(a, c);
+    // |disc| below (2⁻⁹)² at scale 2⁻⁶⁴ (the cone's times 16): A <= 4 keeps
+    // every chord shorter than 2⁻⁹ inside.
+    *close |= disc.unsigned_abs() < 1 << 50;
     if disc < 0 {
         return None;
     }
@@ -117,7 +121,7 @@ mod tests {
                         [a, b, a].map(I16F16::from_bits),
                         [b, a, b.wrapping_neg()].map(I16F16::from_bits),
                     );
-                    let exact = <I16F16 as Kernels>::side_roots(o, d, cone);
+                    let exact = <I16F16 as Kernels>::side_roots(o, d, cone, &mut false);
                     assert_eq!(
                         exact.is_some(),
                         a.unsigned_abs() < 1 << 28 && b.unsigned_abs() < 1 << 28
@@ -149,7 +153,7 @@ mod tests {
             let b = of[0] * df[0] + of[2] * df[2] + k * w0 * df[1];
             let c = of[0] * of[0] + of[2] * of[2] - if cone { k * w0 * w0 } else { 1.0 };
             let disc = b * b - a * c;
-            let got = side_roots(oq, dq, cone);
+            let got = side_roots(oq, dq, cone, &mut false);
             if a.abs() < 1e-3 || disc.abs() < 1e-9 {
                 continue;
             }

@@ -186,7 +186,31 @@ mod kernels {
         /// side quadric along the object-space ray `o + t d`, where the type
         /// computes them exactly (Q16.16: `number::quadric`): `Some(None)` for
         /// no root. `None`: the shape's generic quadratic (f32, unchanged).
-        fn side_roots(_o: [Self; 3], _d: [Self; 3], _cone: bool) -> Option<Option<(Self, Self)>> {
+        fn side_roots(_o: [Self; 3], _d: [Self; 3], _cone: bool, _close: &mut bool) -> Option<Option<(Self, Self)>> {
+            None
+        }
+
+        /// Whether a bounded shape's decision found close to its boundary is
+        /// decided again from an object-space ray rounded once at the ray's
+        /// closest approach ([`Kernels::exact_point`]): Q16.16, whose ray,
+        /// re-origined then transformed, holds 2⁻¹⁷ a component times the
+        /// object's inverse scale. f32 keeps its images.
+        const RECHECK: bool = false;
+
+        /// The object-space point `rows · (o + s d)` of a world ray `o + s d`
+        /// (`d` as held precisely), computed exactly and rounded once, and
+        /// with `rim` (a unit direction) whether the line through the exact
+        /// point along it meets the unit sphere, with `cube` whether the ray
+        /// meets the cube and through which axis's face; `None` where the type has no
+        /// such kernel (f32) or the scales do not fit.
+        fn exact_point(
+            _rows: &[Self::Row; 3],
+            _o: [Self; 3],
+            _d: &Self::Dir,
+            _s: Self,
+            _rim: Option<[Self; 3]>,
+            _cube: bool,
+        ) -> Option<([Self; 3], crate::number::q16::Decided)> {
             None
         }
 

@@ -151,7 +151,10 @@ impl<S: Scalar> Scene<S> {
             if n_dot_l <= S::ZERO {
                 continue;
             }
-            if self.shadows && self.shadowed(p_shadow, l, light.position - p_shadow, dist, S::HIT_EPSILON, own) {
+            // Along P's own vector to the light, from just above P: the ray the
+            // algorithm casts (aimed from p_shadow, it passed a blocker near the
+            // light 1e-3 aside of f32's and flipped a shadow edge's pixels).
+            if self.shadows && self.shadowed(p_shadow, l, to_light, dist, S::HIT_EPSILON, own) {
                 continue;
             }
             let r = n * n_dot_l.add(n_dot_l) - l;

@@ -76,26 +76,34 @@ impl Shape {
     pub fn intersect<S: Scalar>(self, o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
         match self {
             Shape::Plane => plane(o, d, t_min, t_max),
-            _ => self.intersect_bounded(o, d, t_min, t_max),
+            _ => self.intersect_bounded(o, d, t_min, t_max, &mut false, None),
         }
     }
 
     /// [`Shape::intersect`] for the bounded shapes, `None` for the plane: what
     /// an object past its bounding sphere calls (it meets planes through their
     /// world rows), so the renderer carries no second way into the plane.
+    /// Sets `close` where a decision (a rim, an edge, a side's end, a cap's
+    /// rim, a tangent) fell within [`close_band`] of its boundary: Q16.16's
+    /// object-space ray may be on the wrong side there (`Kernels::RECHECK`).
+    /// `exact`, where given, decides whether a sphere or a cube is met and
+    /// the cube's entry face (from the exact ray: `Kernels::exact_point`); a
+    /// grazing ray then takes the tangent point or that face's slab time.
     pub(crate) fn intersect_bounded<S: Scalar>(
         self,
         o: Vec3<S>,
         d: Vec3<S>,
         t_min: S,
         t_max: S,
+        close: &mut bool,
+        exact: Option<(bool, u8)>,
     ) -> Option<LocalHit<S>> {
         match self {
-            Shape::Sphere => sphere(o, d, t_min, t_max),
+            Shape::Sphere => sphere(o, d, t_min, t_max, close, exact.map(|e| e.0)),
             Shape::Plane => None,
-            Shape::Cube => cube(o, d, t_min, t_max),
-            Shape::Cylinder => cylinder(o, d, t_min, t_max),
-            Shape::Cone => cone(o, d, t_min, t_max),
+            Shape::Cube => cube(o, d, t_min, t_max, close, exact),
+            Shape::Cylinder => cylinder(o, d, t_min, t_max, close),
+            Shape::Cone => cone(o, d, t_min, t_max, close),
         }
     }
 }
@@ -109,21 +117,42 @@ fn nearer<S: Scalar>(a: Option<LocalHit<S>>, b: Option<LocalHit<S>>) -> Option<L
     }
 }
 
+/// 2⁻⁹ object units: well above the error of Q16.16's object-space ray
+/// (2⁻¹⁷ a component, from the origin and from the direction over the
+/// shape's width), so a decision closer than this to its boundary is
+/// decided again from the exact ray (`Object::intersect_dir`).
+#[inline(always)]
+fn close_band<S: Scalar>() -> S {
+    S::from_q15(64)
+}
+
 /// `t_min < t < t_max`.
 #[inline]
 fn inside<S: Scalar>(t: S, t_min: S, t_max: S) -> bool {
     t > t_min && t < t_max
 }
 
-fn sphere<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
+fn sphere<S: Scalar>(
+    o: Vec3<S>,
+    d: Vec3<S>,
+    t_min: S,
+    t_max: S,
+    close: &mut bool,
+    rim: Option<bool>,
+) -> Option<LocalHit<S>> {
     // Closest approach along the (unit) ray, and the perpendicular offset there.
     let tc = o.dot(d).neg();
     let perp = o + d * tc;
     // Discriminant from the perpendicular distance (not b² − 4ac): small terms.
     let h2 = S::ONE.sub(perp.dot(perp));
-    if h2 < S::ZERO {
-        return None;
-    }
+    // 1 − |perp|² moves by twice the offset's error: near the rim.
+    *close |= h2.abs() < close_band::<S>().add(close_band());
+    let h2 = match rim {
+        Some(false) => return None,
+        Some(true) => h2.max(S::ZERO),
+        None if h2 < S::ZERO => return None,
+        None => h2,
+    };
     let h = h2.sqrt();
     let t = [tc.sub(h), tc.add(h)].into_iter().find(|&t| inside(t, t_min, t_max))?;
     let p = o + d * t;
@@ -150,7 +179,14 @@ fn plane<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalH
     })
 }
 
-fn cube<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
+fn cube<S: Scalar>(
+    o: Vec3<S>,
+    d: Vec3<S>,
+    t_min: S,
+    t_max: S,
+    close: &mut bool,
+    exact: Option<(bool, u8)>,
+) -> Option<LocalHit<S>> {
     let (o, d) = (o.to_array(), d.to_array());
     let (mut t_near, mut t_far) = (S::MAX.neg(), S::MAX);
     let (mut near_axis, mut far_axis) = (0usize, 0usize);
@@ -169,7 +205,19 @@ fn cube<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHi
             far_axis = i;
         }
     }
+    match exact {
+        Some((false, _)) => return None,
+        // The exact entry face (at an edge both faces' times agree within
+        // the band; the far end no earlier).
+        Some((true, k)) => {
+            near_axis = k as usize;
+            t_far = t_far.max(t_near);
+        }
+        None => {}
+    }
     if t_near > t_far {
+        // Passing just beyond an edge or a corner.
+        *close |= t_near.sub(t_far) < close_band();
         return None;
     }
     // Entering face if it is ahead, else the exit face (ray from inside).
@@ -181,6 +229,9 @@ fn cube<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHi
         return None;
     };
     let mut p = [0, 1, 2].map(|i| o[i].add(d[i].mul(t)));
+    // Near an edge: which face (or whether the cube at all) is in doubt.
+    let edge = S::ONE.sub(close_band());
+    *close |= (0..3).any(|i| i != axis && p[i].abs() > edge);
     let sign = if outward { S::ONE } else { S::ONE.neg() };
     // Put the point exactly on its face: the face lies on a checker boundary.
     p[axis] = sign;
@@ -194,7 +245,7 @@ fn cube<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHi
 }
 
 /// Hit on the cap `y = y_cap` (±1) of radius 1, if any.
-fn cap<S: Scalar>(o: Vec3<S>, d: Vec3<S>, y_cap: S, t_min: S, t_max: S) -> Option<LocalHit<S>> {
+fn cap<S: Scalar>(o: Vec3<S>, d: Vec3<S>, y_cap: S, t_min: S, t_max: S, close: &mut bool) -> Option<LocalHit<S>> {
     if d.y == S::ZERO {
         return None;
     }
@@ -203,7 +254,9 @@ fn cap<S: Scalar>(o: Vec3<S>, d: Vec3<S>, y_cap: S, t_min: S, t_max: S) -> Optio
         return None;
     }
     let (x, z) = (o.x.add(d.x.mul(t)), o.z.add(d.z.mul(t)));
-    if x.mul(x).add(z.mul(z)) > S::ONE {
+    let r2 = x.mul(x).add(z.mul(z));
+    *close |= r2.sub(S::ONE).abs() < close_band::<S>().add(close_band());
+    if r2 > S::ONE {
         return None;
     }
     Some(LocalHit {
@@ -232,12 +285,15 @@ fn side_hit<S: Scalar>(
     t: S,
     t_min: S,
     t_max: S,
+    close: &mut bool,
     normal: impl Fn(Vec3<S>) -> Vec3<S>,
 ) -> Option<LocalHit<S>> {
     if !inside(t, t_min, t_max) {
         return None;
     }
     let p = o + d * t;
+    // At a side's end (a cylinder's rim, a cone's apex or base rim).
+    *close |= S::ONE.sub(p.y.abs()).abs() < close_band();
     if p.y < S::ONE.neg() || p.y > S::ONE {
         return None;
     }
@@ -249,7 +305,7 @@ fn negligible<S: Scalar>(a: S) -> bool {
     a.abs() < S::HIT_EPSILON.mul(S::from_q15(2048))
 }
 
-fn cylinder<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
+fn cylinder<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, close: &mut bool) -> Option<LocalHit<S>> {
     // Side: (ox + t dx)² + (oz + t dz)² = 1.
     let a = d.x.mul(d.x).add(d.z.mul(d.z));
     let b = o.x.mul(d.x).add(o.z.mul(d.z));
@@ -257,7 +313,7 @@ fn cylinder<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<Loc
     let normal = |p: Vec3<S>| Vec3::new(p.x, S::ZERO, p.z);
     let mut best = None;
     // Q16.16's exact roots where it has them; else the quadratic in S.
-    let side = S::side_roots(o.to_array(), d.to_array(), false).unwrap_or_else(|| {
+    let side = S::side_roots(o.to_array(), d.to_array(), false, close).unwrap_or_else(|| {
         if negligible(a) {
             None
         } else {
@@ -265,13 +321,14 @@ fn cylinder<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<Loc
         }
     });
     if let Some((t0, t1)) = side {
-        best = side_hit(o, d, t0, t_min, t_max, normal).or_else(|| side_hit(o, d, t1, t_min, t_max, normal));
+        best =
+            side_hit(o, d, t0, t_min, t_max, close, normal).or_else(|| side_hit(o, d, t1, t_min, t_max, close, normal));
     }
-    best = nearer(best, cap(o, d, S::ONE, t_min, t_max));
-    nearer(best, cap(o, d, S::ONE.neg(), t_min, t_max))
+    best = nearer(best, cap(o, d, S::ONE, t_min, t_max, close));
+    nearer(best, cap(o, d, S::ONE.neg(), t_min, t_max, close))
 }
 
-fn cone<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHit<S>> {
+fn cone<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, close: &mut bool) -> Option<LocalHit<S>> {
     // Side: x² + z² = ((1 - y) / 2)², with w = 1 - y falling by dy per unit t.
     let quarter = S::from_q15(8192);
     let w0 = S::ONE.sub(o.y);
@@ -288,28 +345,28 @@ fn cone<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalHi
         }
     };
     let mut best = None;
-    if let Some(side) = S::side_roots(o.to_array(), d.to_array(), true) {
+    if let Some(side) = S::side_roots(o.to_array(), d.to_array(), true, close) {
         // Q16.16: exact coefficients and stable roots (a near-apex hit moved by 1 % of the size).
         if let Some((t0, t1)) = side {
             best = nearer(
-                side_hit(o, d, t0, t_min, t_max, normal),
-                side_hit(o, d, t1, t_min, t_max, normal),
+                side_hit(o, d, t0, t_min, t_max, close, normal),
+                side_hit(o, d, t1, t_min, t_max, close, normal),
             );
         }
     } else if negligible(a) {
         // Ray parallel to a line of the cone: one root, −c / 2b.
         if b != S::ZERO {
             let t = c.neg().div(b.add(b));
-            best = side_hit(o, d, t, t_min, t_max, normal);
+            best = side_hit(o, d, t, t_min, t_max, close, normal);
         }
     } else if let Some((t0, t1)) = roots(a, b, c) {
         // The lower root may lie on the upper nappe (y > 1): side_hit rejects it.
         best = nearer(
-            side_hit(o, d, t0, t_min, t_max, normal),
-            side_hit(o, d, t1, t_min, t_max, normal),
+            side_hit(o, d, t0, t_min, t_max, close, normal),
+            side_hit(o, d, t1, t_min, t_max, close, normal),
         );
     }
-    nearer(best, cap(o, d, S::ONE.neg(), t_min, t_max))
+    nearer(best, cap(o, d, S::ONE.neg(), t_min, t_max, close))
 }
 
 impl crate::bytes::Field for Shape {

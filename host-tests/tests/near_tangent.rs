@@ -1,0 +1,126 @@
+//! Near-tangent rays, every bounded shape: Q16.16's hit-or-miss decision
+//! against float64 (`lensray_host::reference64`) for the very ray Q16.16
+//! holds, on rays whose origin sits a few Q16.16 steps from where the
+//! decision flips (small, turned, stretched objects: an object-space error
+//! grows with the inverse scale). See docs/accuracy.md, fix 10.
+
+use lensray::unstable::scene::{Object, ObjectDesc, DEFAULT_MATERIAL};
+use lensray::{Scalar, Shape, Vec3, I16F16};
+use lensray_host::reference64::{Object64, Scene64};
+
+/// xorshift64*: the test's seeded random source, uniform in [0, 1).
+fn rng(mut s: u64) -> impl FnMut() -> f64 {
+    move || {
+        s ^= s >> 12;
+        s ^= s << 25;
+        s ^= s >> 27;
+        (s.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// One object in both forms, Q16.16 and f64, from the same scene text:
+/// scaled 0.2 to 1.5 per axis, turned twice, anywhere within 30.
+fn object(shape: Shape, r: &mut impl FnMut() -> f64) -> (Object<I16F16>, Object64) {
+    let s = [0, 1, 2].map(|_| 0.2 + 1.3 * r());
+    let names = ["x", "y", "z"];
+    let (ax, ang) = (names[(r() * 3.0) as usize], r() * 360.0);
+    let (ax2, ang2) = (names[(r() * 3.0) as usize], r() * 360.0);
+    let t = [0, 1, 2].map(|_| (r() - 0.5) * 60.0);
+    let text = format!(
+        "object {}\nscale {:.4} {:.4} {:.4}\nrotate {ax} {ang:.4}\nrotate {ax2} {ang2:.4}\ntranslate {:.4} {:.4} {:.4}\n",
+        shape.name(),
+        s[0],
+        s[1],
+        s[2],
+        t[0],
+        t[1],
+        t[2]
+    );
+    let o64 = Scene64::parse(&text).objects.remove(0);
+    let (_, ka, kd, ks, shine) = DEFAULT_MATERIAL;
+    let desc = ObjectDesc {
+        shape,
+        ka,
+        kd,
+        ks,
+        shine,
+        texture: 0.0,
+        to_world: o64.to_world,
+    };
+    (Object::new(&desc).expect("invertible"), o64)
+}
+
+/// (shape, rays, Q16.16 decisions unlike f64's) over `cases` silhouettes of
+/// each bounded shape: the origin stepped by single Q16.16 steps across the
+/// place where f64's decision flips, 3 steps either side.
+fn disagreements(cases: usize) -> Vec<(Shape, usize, usize)> {
+    let mut r = rng(0x9E37_79B9_7F4A_7C15);
+    let mut out = Vec::new();
+    for shape in [Shape::Sphere, Shape::Cube, Shape::Cylinder, Shape::Cone] {
+        let (mut rays, mut wrong) = (0, 0);
+        for _ in 0..cases {
+            let (obj, o64) = object(shape, &mut r);
+            let c = o64.to_world.apply([0.0; 3], true);
+            // An origin 20 to 120 away, the direction at the centre, rounded.
+            let dir: [f64; 3] = {
+                let v = [r() - 0.5, r() - 0.5, r() - 0.5];
+                let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                v.map(|x| x / l)
+            };
+            let dist = 20.0 + 100.0 * r();
+            let d = Vec3::<I16F16>::from_f64(dir.map(|x| -x)).normalize();
+            let df = d.to_f64();
+            // Slide the origin along an axis: f64 hits on the centre line and
+            // misses 4 units aside; bisect to the two neighbouring steps.
+            let axis = (r() * 3.0) as usize;
+            let base = Vec3::<I16F16>::from_f64([0, 1, 2].map(|i| c[i] + dir[i] * dist)).to_array();
+            let origin = |k: i64| {
+                let mut o = base;
+                o[axis] = I16F16::from_bits(o[axis].to_bits() + k as i32);
+                o
+            };
+            let hits64 = |k: i64| {
+                let o = origin(k).map(|x| x.to_f64());
+                o64.hit(o, df, 1.0 / 1024.0, f64::INFINITY).is_some()
+            };
+            let (mut lo, mut hi) = (0i64, 4 << 16);
+            if !hits64(lo) || hits64(hi) {
+                continue;
+            }
+            while hi - lo > 1 {
+                let mid = (lo + hi) / 2;
+                if hits64(mid) {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            for k in lo - 3..=hi + 3 {
+                let o = Vec3::from_array(origin(k));
+                let q = obj.intersect(o, d, I16F16::HIT_EPSILON, I16F16::MAX).is_some();
+                rays += 1;
+                wrong += usize::from(q != hits64(k));
+            }
+        }
+        out.push((shape, rays, wrong));
+    }
+    out
+}
+
+#[test]
+fn near_tangent_decisions_agree_with_f64() {
+    let counts = disagreements(400);
+    println!("{counts:?}");
+    for (shape, rays, wrong) in counts {
+        assert!(rays > 2000, "{shape:?}: {rays} rays");
+        // Rays 0 to 4 Q16.16 steps (up to 6e-5 world units, 3e-4 object
+        // units) from the flip. Measured on these 400 silhouettes a shape:
+        // without the recheck 9.4 % (sphere) to 13.1 % (cube) went the other
+        // way; with it none for the sphere and the cube (decided exactly) and
+        // 4.6 % (cylinder) and 7.7 % (cone), whose second pass still rounds
+        // its point and direction to 2^-17 (docs/accuracy.md, fix 10).
+        let exact = matches!(shape, Shape::Sphere | Shape::Cube);
+        let bound = if exact { 0 } else { rays * 8 / 100 };
+        assert!(wrong <= bound, "{shape:?}: {wrong} of {rays} unlike f64");
+    }
+}
