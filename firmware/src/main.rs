@@ -125,10 +125,11 @@ fn renderer(loaded: &Loaded) -> Renderer<'_, Number> {
     }
 }
 
-/// The renderer of a loaded scene (size and samples were baked in).
+/// The renderer of a loaded scene (size and samples were baked in), moving
+/// its cones and footprints out rather than copying them.
 #[cfg(not(feature = "parse-on-device"))]
-fn renderer(loaded: &Loaded) -> Renderer<'_, Number> {
-    loaded.renderer()
+fn renderer(loaded: &mut Loaded) -> Renderer<'_, Number> {
+    loaded.take_renderer()
 }
 
 /// The instruction counter: SysTick on Arm.
@@ -194,7 +195,8 @@ fn main() -> ! {
     if !load(&mut loaded, &mut console) {
         exit(2)
     }
-    let renderer = renderer(&loaded);
+    #[cfg_attr(feature = "parse-on-device", allow(clippy::unnecessary_mut_passed))]
+    let renderer = renderer(&mut loaded);
     let t1 = counter.ticks();
 
     let mut rows = match RowFile::<ROW_BYTES>::create(ROWS_FILE, HEIGHT) {
