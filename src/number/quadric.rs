@@ -19,8 +19,9 @@ fn ratio_q16(n: i64, d: i64) -> I16F16 {
     let q = if n.unsigned_abs() < 1 << 46 {
         div_round_i64(n << 16, d) as i128
     } else {
-        // Rare (object-space origins far along a squashed axis): wide division.
-        ((n as i128) << 16) / d as i128
+        // Rare (object-space origins far along a squashed axis): wide division
+        // (`max(1)` keeps the promise d != 0 visible: no panicking path).
+        ((n as i128) << 16) / (d as i128).abs().max(1) * d.signum() as i128
     };
     I16F16::from_bits(q.clamp(i32::MIN as i128, i32::MAX as i128) as i32)
 }

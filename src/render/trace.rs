@@ -112,7 +112,10 @@ impl<S: Scalar> Scene<S> {
         let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::HIT_EPSILON, cones) else {
             return self.background;
         };
-        let obj = &self.objects[i];
+        // Always there (the search's own index); `get` spares a panicking bounds check.
+        let Some(obj) = self.objects.get(i) else {
+            return self.background;
+        };
         let p = o + d * hit.t;
         let (n, outside) = obj.facing_normal(&hit, d);
         // Every shape is convex: a shadow ray leaving the lit side of its own
