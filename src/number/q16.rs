@@ -131,7 +131,8 @@ pub(crate) fn div_round_i64(n: i64, d: i64) -> i64 {
         return div_round_i64_by(n, &Recip::new(du as u32), d < 0);
     }
     let nu = n.unsigned_abs();
-    let q = (nu / du + u64::from(nu % du >= du - du / 2)) as i64;
+    let (q, r) = crate::number::wide::div_rem_u64(nu, du);
+    let q = (q + u64::from(r >= du - du / 2)) as i64;
     if (n < 0) != (d < 0) {
         -q
     } else {

@@ -576,7 +576,37 @@ pub(crate) fn div_rem_u64(n: u64, d: u64) -> (u64, u64) {
         let (q, r) = div_rem_u64_u32(n, d as u32);
         (q, r as u64)
     } else {
-        (n / d, n % d)
+        #[cfg(lensray_v6m)]
+        {
+            div_rem_u64_big(n, d)
+        }
+        #[cfg(not(lensray_v6m))]
+        {
+            (n / d, n % d)
+        }
+    }
+}
+
+/// `(n / d, n % d)` exactly for `d >= 2^32` (the quotient fits 32 bits),
+/// from one `u64 / u32` division by d's top word (Warren, Hacker's Delight,
+/// `divlu`): on the Cortex-M0 it keeps the runtime's 1 KB `u64 / u64` out.
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+#[inline(never)]
+pub(crate) fn div_rem_u64_big(n: u64, d: u64) -> (u64, u64) {
+    debug_assert!(d >> 32 != 0);
+    let s = clz32((d >> 32) as u32);
+    // d's top 32 bits once normalised (at least 2^31), and n halved so that
+    // the quotient fits 32 bits.
+    let d1 = ((d << s) >> 32) as u32;
+    // Through `div_rem_u64`'s own copy of the reciprocal division (one copy, not two).
+    let q1 = div_rem_u64(n >> 1, d1 as u64).0;
+    // q or q + 1 (Warren): one less, then at most one correction.
+    let q = ((q1 << s) >> 31).saturating_sub(1);
+    let r = n - mul_u64(q, d);
+    if r >= d {
+        (q + 1, r - d)
+    } else {
+        (q, r)
     }
 }
 
@@ -592,6 +622,25 @@ mod tests {
             s ^= s << 25;
             s ^= s >> 27;
             s.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        }
+    }
+
+    #[test]
+    fn big_divisors_divide_exactly() {
+        let mut r = rng(15);
+        let edges = [1u64 << 32, (1 << 32) + 1, u64::MAX, u64::MAX - 1, 1 << 63, (1 << 63) - 1, 3 << 32];
+        for i in 0..200_000 {
+            let d = match i % 4 {
+                0 => edges[(r() % edges.len() as u64) as usize],
+                _ => (r() >> (r() % 32)) | 1 << 32,
+            };
+            let n = match i % 3 {
+                0 => u64::MAX - r() % 4,
+                1 => r() >> (r() % 64),
+                _ => r(),
+            };
+            assert_eq!(div_rem_u64_big(n, d), (n / d, n % d), "{n} / {d}");
+            assert_eq!(div_rem_u64(n, d), (n / d, n % d), "{n} / {d}");
         }
     }
 
