@@ -16,7 +16,9 @@ fn pow2(e: u32) -> f64 {
 
 /// The Q16.16 product of raw values `a · b / 2^16`, rounded to nearest
 /// (ties up) and saturated, through the exact 64-bit product.
-#[inline]
+// One copy on the M0: there it is the rare fallback of `mul_q16_small`.
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline)]
 fn mul_q16_wide(a: i32, b: i32) -> i32 {
     sat32(shr_round(mul_i32(a, b), 16))
 }
