@@ -116,7 +116,7 @@ impl<S: Scalar> Scene<S> {
         let Some(obj) = self.objects.get(i) else {
             return self.background;
         };
-        let p = o + d * hit.t;
+        let p = o + d.scale(hit.t);
         let (n, outside) = obj.facing_normal(&hit, d);
         // Every shape is convex: a shadow ray leaving the lit side of its own
         // surface never meets it again, so it is not tested (at a large
@@ -135,7 +135,7 @@ impl<S: Scalar> Scene<S> {
             (m.ka * f, m.kd * f)
         } else if obj.in_dark_square(&hit) {
             let q = S::from_q15(8192);
-            (m.ka * q, m.kd * q)
+            (m.ka.scale(q), m.kd.scale(q))
         } else {
             (m.ka, m.kd)
         };
@@ -157,10 +157,10 @@ impl<S: Scalar> Scene<S> {
             if self.shadows && self.shadowed(p_shadow, l, light.position - p_shadow, dist, S::HIT_EPSILON, own) {
                 continue;
             }
-            let r = n * n_dot_l.add(n_dot_l) - l;
+            let r = n.scale(n_dot_l.add(n_dot_l)) - l;
             let r_dot_v = r.dot(v).max(S::ZERO);
-            let diffuse = kd * n_dot_l;
-            let specular = m.ks * r_dot_v.powf(m.shine);
+            let diffuse = kd.scale(n_dot_l);
+            let specular = m.ks.scale(r_dot_v.powf(m.shine));
             colour = colour + (diffuse + specular).hadamard(light.intensity);
         }
         colour
