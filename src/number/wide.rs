@@ -143,6 +143,18 @@ fn clz32_search(mut x: u32) -> u32 {
 pub(crate) fn bits_u64(x: u64) -> u32 {
     let hi = (x >> 32) as u32;
     if hi != 0 {
+        64 - clz32_call(hi)
+    } else {
+        32 - clz32_call(x as u32)
+    }
+}
+
+/// [`bits_u64`] with the leading zeros counted in place: for the per-ray
+/// paths (the camera ray's direction, the plane's hit).
+#[inline(always)]
+pub(crate) fn bits_u64_inline(x: u64) -> u32 {
+    let hi = (x >> 32) as u32;
+    if hi != 0 {
         64 - clz32(hi)
     } else {
         32 - clz32(x as u32)
@@ -178,7 +190,8 @@ pub(crate) fn sar64(x: i64, s: u32) -> i64 {
     }
 }
 
-/// Leading zeros of a u32.
+/// Leading zeros of a u32: in place, for the square roots and reciprocals
+/// of every ray.
 #[inline(always)]
 fn clz32(x: u32) -> u32 {
     #[cfg(lensray_v6m)]
@@ -189,6 +202,14 @@ fn clz32(x: u32) -> u32 {
     {
         x.leading_zeros()
     }
+}
+
+/// [`clz32`] as one out-of-line copy on the M0, for the bit lengths of the
+/// rarer exact paths (inlined everywhere it took 2 KB of flash).
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline(always))]
+fn clz32_call(x: u32) -> u32 {
+    clz32(x)
 }
 
 /// Rounded `1 / sqrt(x)` in Q1.15 at the middle of each interval
