@@ -136,7 +136,7 @@ pub(crate) fn to_unit(d: FixedDir) -> Option<FixedDir> {
         return None;
     }
     // Largest component into [2^30, 2^31): the length is then above 2^29.
-    let b = bits(big);
+    let b = bits_u64(big);
     let m = if b > 31 {
         d.m.map(|x| shr_round(x, b - 31))
     } else {
