@@ -150,7 +150,7 @@ impl<S: Scalar> Scene<S> {
                 continue;
             }
             let (l, dist) = to_light.normalize_len();
-            let n_dot_l = n.dot(l);
+            let n_dot_l = n.dot_inline(l);
             if n_dot_l <= S::ZERO {
                 continue;
             }
@@ -158,7 +158,7 @@ impl<S: Scalar> Scene<S> {
                 continue;
             }
             let r = n.scale(n_dot_l.add(n_dot_l)) - l;
-            let r_dot_v = r.dot(v).max(S::ZERO);
+            let r_dot_v = r.dot_inline(v).max(S::ZERO);
             let diffuse = kd.scale(n_dot_l);
             let specular = m.ks.scale(r_dot_v.powf(m.shine));
             colour = colour + (diffuse + specular).hadamard(light.intensity);
