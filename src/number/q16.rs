@@ -132,6 +132,9 @@ impl FixedDir {
 #[inline]
 pub(crate) fn div_round_i64(n: i64, d: i64) -> i64 {
     let du = d.unsigned_abs();
+    // On the M0 `div_rem_u64` holds the one copy of the reciprocal division
+    // (a second one here took 600 bytes for a rare path).
+    #[cfg(not(lensray_v6m))]
     if du >> 32 == 0 {
         return div_round_i64_by(n, &Recip::new(du as u32), d < 0);
     }
