@@ -345,7 +345,9 @@ fn isqrt_estimate_u64(n: u64) -> u32 {
 /// Table start and Newton steps by products only (see
 /// [`isqrt_estimate_u64`]), then an exact correction by squares: some 150
 /// instructions on a Cortex-M0 where the bit-by-bit method took 500 or more.
-#[inline]
+// One copy on the M0 (the per-ray normalisation calls it already).
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline)]
 pub(crate) fn isqrt_rem_u64(n: u64) -> (u64, u64) {
     if n >> 32 == 0 {
         let (r, rem) = isqrt_rem_u32(n as u32);
