@@ -9,7 +9,9 @@
 //! in an i64; grazing hits far away keep their precision.
 
 use crate::number::q16::{shr_round, FixedDir, FixedRow};
-use crate::number::wide::{bits_u64, bits_u64_inline, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u32, sar64};
+use crate::number::wide::{
+    bits_u64, bits_u64_inline, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u32, sar64,
+};
 use fixed::types::I16F16;
 
 /// Bits needed for `x` (0 for 0).

@@ -64,7 +64,13 @@ impl FixedDir {
     /// `2^e` to 31-bit mantissas, rounded as one i128 shift would round them,
     /// in i64 (i128 shifts are expanded in place on the Cortex-M0).
     pub(crate) fn from_scaled(w: [i64; 3], s: [u32; 3], e: i32) -> FixedDir {
-        let bits = |i: usize| if w[i] == 0 { 0 } else { bits_u64(w[i].unsigned_abs()) + s[i] };
+        let bits = |i: usize| {
+            if w[i] == 0 {
+                0
+            } else {
+                bits_u64(w[i].unsigned_abs()) + s[i]
+            }
+        };
         let k = bits(0).max(bits(1)).max(bits(2)).saturating_sub(31);
         let m = core::array::from_fn(|i| {
             let (x, s) = (w[i], s[i]);
@@ -193,8 +199,18 @@ mod tests {
     fn from_wide(w: [i128; 3], e: i32) -> FixedDir {
         let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
         let k = (128 - big.leading_zeros()).saturating_sub(31);
-        let m = w.map(|x| if k == 0 { x as i64 } else { (((x >> (k - 1)) + 1) >> 1) as i64 });
-        FixedDir { m, e: e + k as i32, unit: false }
+        let m = w.map(|x| {
+            if k == 0 {
+                x as i64
+            } else {
+                (((x >> (k - 1)) + 1) >> 1) as i64
+            }
+        });
+        FixedDir {
+            m,
+            e: e + k as i32,
+            unit: false,
+        }
     }
 
     #[test]

@@ -651,7 +651,15 @@ mod tests {
     #[test]
     fn big_divisors_divide_exactly() {
         let mut r = rng(15);
-        let edges = [1u64 << 32, (1 << 32) + 1, u64::MAX, u64::MAX - 1, 1 << 63, (1 << 63) - 1, 3 << 32];
+        let edges = [
+            1u64 << 32,
+            (1 << 32) + 1,
+            u64::MAX,
+            u64::MAX - 1,
+            1 << 63,
+            (1 << 63) - 1,
+            3 << 32,
+        ];
         for i in 0..200_000 {
             let d = match i % 4 {
                 0 => edges[(r() % edges.len() as u64) as usize],

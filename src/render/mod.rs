@@ -108,7 +108,10 @@ fn mul_wide(a: u64, b: u64) -> (u64, u64) {
     let (p00, p01, p10) = (a0 * b0, a0 * b1, a1 * b0);
     // Below 3 · 2³²: no carry is lost.
     let mid = (p00 >> 32) + (p01 & 0xFFFF_FFFF) + (p10 & 0xFFFF_FFFF);
-    (a1 * b1 + (p01 >> 32) + (p10 >> 32) + (mid >> 32), (p00 & 0xFFFF_FFFF) | (mid << 32))
+    (
+        a1 * b1 + (p01 >> 32) + (p10 >> 32) + (mid >> 32),
+        (p00 & 0xFFFF_FFFF) | (mid << 32),
+    )
 }
 
 /// Running sums of a pixel's samples in 8-bit levels (unclamped: a lamp
@@ -545,7 +548,11 @@ mod settled_tests {
                 }
                 if k + 1 == check {
                     let got = s.settled(check, full);
-                    assert_eq!(got, settled_u128(&s, check, full), "n {check} full {full} pixel {pixel}");
+                    assert_eq!(
+                        got,
+                        settled_u128(&s, check, full),
+                        "n {check} full {full} pixel {pixel}"
+                    );
                     if got {
                         yes += 1;
                     } else {
