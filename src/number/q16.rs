@@ -157,6 +157,8 @@ pub(crate) fn div_round_i64(n: i64, d: i64) -> i64 {
 /// `n / d` rounded to nearest (ties away from zero), exactly as
 /// [`div_round_i64`], for the divisor `d = ±r.divisor()` with the sign
 /// `d_neg`: several divisions by one `d` compute its reciprocal once.
+// The M0 divides through `div_rem_u64` instead (one copy of the division).
+#[cfg_attr(lensray_v6m, allow(dead_code))]
 #[inline]
 pub(crate) fn div_round_i64_by(n: i64, r: &Recip, d_neg: bool) -> i64 {
     let (q, rem) = r.div_rem(n.unsigned_abs());

@@ -440,7 +440,8 @@ fn div_2by1(u1: u32, u0: u32, d: u32, v: u32) -> (u32, u32) {
 #[derive(Copy, Clone, Debug)]
 #[cfg_attr(not(lensray_v6m), allow(dead_code))]
 pub(crate) struct RecipMul {
-    /// The divisor.
+    /// The divisor (read by `div_round_i64_by`, which the M0 leaves to `div_rem_u64`).
+    #[cfg_attr(lensray_v6m, allow(dead_code))]
     d: u32,
     /// `d << s`, at least 2^31.
     dn: u32,
@@ -470,6 +471,7 @@ impl RecipMul {
 
     /// The divisor.
     #[inline(always)]
+    #[cfg_attr(lensray_v6m, allow(dead_code))]
     pub(crate) fn divisor(&self) -> u32 {
         self.d
     }
