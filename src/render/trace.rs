@@ -135,7 +135,7 @@ impl<S: Scalar> Scene<S> {
             (m.ka * f, m.kd * f)
         } else if obj.in_dark_square(&hit) {
             let q = S::from_q15(8192);
-            (m.ka.scale(q), m.kd.scale(q))
+            (m.ka * q, m.kd * q)
         } else {
             (m.ka, m.kd)
         };
