@@ -8,7 +8,7 @@
 //! square root and one reciprocal, and comes out a unit vector to 30 bits.
 
 use crate::number::plane::unit_mantissas;
-use crate::number::q16::{shr_round, FixedDir};
+use crate::number::q16::{shr_round, shr_round_call, FixedDir};
 use crate::number::wide::{bits_u64_inline, mul_i32};
 use fixed::types::I16F16;
 
@@ -151,7 +151,12 @@ impl FixedFilmMap {
         if d.iter().all(|x| x.unsigned_abs() < 1 << 29) && g > 0 {
             let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
             let keep = bits_u64_inline(big).saturating_sub(31).min(g);
-            d = if keep == 0 { w } else { w.map(|x| shr_round(x, keep)) };
+            // Rare: through one out-of-line copy of the rounding shift.
+            d = if keep == 0 {
+                w
+            } else {
+                w.map(|x| shr_round_call(x, keep))
+            };
         }
         let Some(m) = unit_mantissas(d) else {
             let zero = FixedDir {

@@ -181,6 +181,13 @@ pub(crate) fn shr_round(x: i64, s: u32) -> i64 {
     (r >> 1) + (r & 1)
 }
 
+/// [`shr_round`] as one out-of-line copy on the M0, for rare paths.
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline)]
+pub(crate) fn shr_round_call(x: i64, s: u32) -> i64 {
+    shr_round(x, s)
+}
+
 /// Saturates an i64 to the i32 range.
 #[inline]
 pub(crate) fn sat32(x: i64) -> i32 {
