@@ -58,12 +58,15 @@ impl<const BYTES: usize> RowFile<BYTES> {
     /// Appends the next pixel of the row; writes a full chunk, and the rest
     /// at the row's end.
     fn push(&mut self, c: Rgb888) -> Result<(), RowError> {
-        self.chunk[self.filled..self.filled + 3].copy_from_slice(&[c.r(), c.g(), c.b()]);
+        // filled <= CHUNK - 3 here; `get_mut` spares a panicking bounds check.
+        if let Some(dst) = self.chunk.get_mut(self.filled..self.filled + 3) {
+            dst.copy_from_slice(&[c.r(), c.g(), c.b()]);
+        }
         self.filled += 3;
         self.next_x += 1;
         let row_done = self.next_x == self.width();
         if self.filled == CHUNK || row_done {
-            self.file.write_all(&self.chunk[..self.filled])?;
+            self.file.write_all(self.chunk.get(..self.filled).unwrap_or(&[]))?;
             self.filled = 0;
         }
         if row_done {

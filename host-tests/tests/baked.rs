@@ -54,6 +54,21 @@ fn round_trip<S: BakeScalar>(scene: &Scene<S>, w: u32, h: u32, samples: u32, wha
     }
     // Baking the loaded renderer gives the same bytes: nothing was lost or added.
     assert_eq!(baked_bytes(&again), bytes, "{what}: re-baked bytes differ");
+    // The firmware's way, moving the cones and footprints out: the same
+    // renderer; a second take before loading again is the empty scene's.
+    assert_eq!(
+        baked_bytes(&loaded.take_renderer()),
+        bytes,
+        "{what}: taken renderer differs"
+    );
+    let second = baked_bytes(&loaded.take_renderer());
+    assert_eq!(second, baked_bytes(&Baked::<S>::empty().take_renderer()), "{what}");
+    loaded.load(&bytes).unwrap();
+    assert_eq!(
+        baked_bytes(&loaded.take_renderer()),
+        bytes,
+        "{what}: taken after a reload"
+    );
 }
 
 #[test]

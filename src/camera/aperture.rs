@@ -123,7 +123,11 @@ impl Aperture {
             let k = (t >> 16) as usize;
             // Q0.15: (b − a) f stays within an i32.
             let f = ((t & 0xFFFF) >> 1) as i32;
-            let (a, b) = (self.corners[k], self.corners[(k + 1) % n as usize]);
+            // k < n <= MAX_BLADES; no modulo and no panicking index (the
+            // firmware then links no panic formatting).
+            let next = if k + 1 == n as usize { 0 } else { k + 1 };
+            let corner = |i: usize| self.corners.get(i).copied().unwrap_or_default();
+            let (a, b) = (corner(k), corner(next));
             // a + f (b − a), the chord: inside the polygon, within the circle.
             let lerp = |a: i16, b: i16| a as i32 + (((b as i32 - a as i32) * f) >> 15);
             (lerp(a.0, b.0), lerp(a.1, b.1))
@@ -145,8 +149,9 @@ impl Aperture {
             return x * x + y * y < 1 << 30;
         }
         let c = self.inradius;
-        self.edges[..self.blades as usize]
+        self.edges
             .iter()
+            .take(self.blades as usize)
             .all(|&(a, b)| a as i32 * x + b as i32 * y <= c)
     }
 

@@ -61,7 +61,8 @@ pub fn sequence_point(i: u32) -> (u16, u16) {
     let mut j = 0;
     while bits != 0 {
         if bits & 1 == 1 {
-            v ^= SOBOL2[j];
+            // j < 16 (bits has 16): the mask only spares a panicking bounds check.
+            v ^= SOBOL2[j & 15];
         }
         bits >>= 1;
         j += 1;

@@ -8,8 +8,8 @@
 //! square root and one reciprocal, and comes out a unit vector to 30 bits.
 
 use crate::number::plane::unit_mantissas;
-use crate::number::q16::{shr_round, FixedDir};
-use crate::number::wide::{bits_u64, mul_i32};
+use crate::number::q16::{shr_round, shr_round_call, FixedDir};
+use crate::number::wide::{bits_u64_inline, mul_i32};
 use fixed::types::I16F16;
 
 /// The map's exact parts, from the camera's set-up (world space).
@@ -150,8 +150,13 @@ impl FixedFilmMap {
         let mut d = if g == 0 { w } else { w.map(|x| shr_round(x, g)) };
         if d.iter().all(|x| x.unsigned_abs() < 1 << 29) && g > 0 {
             let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
-            let keep = bits_u64(big).saturating_sub(31).min(g);
-            d = if keep == 0 { w } else { w.map(|x| shr_round(x, keep)) };
+            let keep = bits_u64_inline(big).saturating_sub(31).min(g);
+            // Rare: through one out-of-line copy of the rounding shift.
+            d = if keep == 0 {
+                w
+            } else {
+                w.map(|x| shr_round_call(x, keep))
+            };
         }
         let Some(m) = unit_mantissas(d) else {
             let zero = FixedDir {

@@ -16,7 +16,9 @@ fn pow2(e: u32) -> f64 {
 
 /// The Q16.16 product of raw values `a · b / 2^16`, rounded to nearest
 /// (ties up) and saturated, through the exact 64-bit product.
-#[inline]
+// One copy on the M0: there it is the rare fallback of `mul_q16_small`.
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline)]
 fn mul_q16_wide(a: i32, b: i32) -> i32 {
     sat32(shr_round(mul_i32(a, b), 16))
 }
@@ -497,6 +499,10 @@ impl Kernels for I16F16 {
     fn acc_mean(acc: i64, n: u32) -> Self {
         let n = n.max(1);
         // Rounded on the magnitude: (acc - n/2) / n truncates towards zero.
+        // Once a pixel: through div_rem_u64's one copy of the division on the M0.
+        #[cfg(lensray_v6m)]
+        let q = crate::number::wide::div_rem_u64(acc.unsigned_abs() + (n / 2) as u64, n as u64).0 as i64;
+        #[cfg(not(lensray_v6m))]
         let q = div_rem_u64_u32(acc.unsigned_abs() + (n / 2) as u64, n).0 as i64;
         let q = if acc < 0 { -q } else { q };
         I16F16::from_bits(sat32(q))

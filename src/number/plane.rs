@@ -9,7 +9,9 @@
 //! in an i64; grazing hits far away keep their precision.
 
 use crate::number::q16::{shr_round, FixedDir, FixedRow};
-use crate::number::wide::{bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u32, sar64};
+use crate::number::wide::{
+    bits_u64, bits_u64_inline, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u32, sar64,
+};
 use fixed::types::I16F16;
 
 /// Bits needed for `x` (0 for 0).
@@ -17,7 +19,7 @@ use fixed::types::I16F16;
 #[cfg_attr(lensray_v6m, inline(always))]
 #[cfg_attr(not(lensray_v6m), inline)]
 fn bits(x: u64) -> u32 {
-    bits_u64(x)
+    bits_u64_inline(x)
 }
 
 /// `row · m` exactly, at scale `2^-(30 + row.shift)` for mantissas at `2^-30`.
@@ -136,7 +138,7 @@ pub(crate) fn to_unit(d: FixedDir) -> Option<FixedDir> {
         return None;
     }
     // Largest component into [2^30, 2^31): the length is then above 2^29.
-    let b = bits(big);
+    let b = bits_u64(big);
     let m = if b > 31 {
         d.m.map(|x| shr_round(x, b - 31))
     } else {
@@ -221,8 +223,8 @@ fn far_xy(
     checker: (I16F16, I16F16),
 ) -> (I16F16, I16F16) {
     // t in units of 2^g bits, g so that it fits 31 bits again (30 significant).
-    let g = (bits(oz.unsigned_abs()) + k + 1)
-        .saturating_sub(bits(dz.unsigned_abs()))
+    let g = (bits_u64(oz.unsigned_abs()) + k + 1)
+        .saturating_sub(bits_u64(dz.unsigned_abs()))
         .min(30 + k);
     let t = ratio(-oz, dz, 30 + k - g);
     let along = |i: usize| far_coord(&rows[i], o, d, t, g, checker);

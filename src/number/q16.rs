@@ -60,15 +60,25 @@ pub struct FixedDir {
 }
 
 impl FixedDir {
-    /// Normalises exact i128 components at scale `2^e` to 31-bit mantissas.
-    pub(crate) fn from_wide(w: [i128; 3], e: i32) -> FixedDir {
-        let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
-        let k = (128 - big.leading_zeros()).saturating_sub(31);
-        let m = w.map(|x| {
-            if k == 0 {
-                x as i64
+    /// Normalises exact components `w[i] · 2^s[i]` (`s[i] <= 32`) at scale
+    /// `2^e` to 31-bit mantissas, rounded as one i128 shift would round them,
+    /// in i64 (i128 shifts are expanded in place on the Cortex-M0).
+    pub(crate) fn from_scaled(w: [i64; 3], s: [u32; 3], e: i32) -> FixedDir {
+        let bits = |i: usize| {
+            if w[i] == 0 {
+                0
             } else {
-                (((x >> (k - 1)) + 1) >> 1) as i64
+                bits_u64(w[i].unsigned_abs()) + s[i]
+            }
+        };
+        let k = bits(0).max(bits(1)).max(bits(2)).saturating_sub(31);
+        let m = core::array::from_fn(|i| {
+            let (x, s) = (w[i], s[i]);
+            if s >= k {
+                // Below 2^31 after the shift: bits(x) + s <= 31 + k.
+                x << (s - k)
+            } else {
+                ((x >> (k - s - 1)) + 1) >> 1
             }
         });
         FixedDir {
@@ -111,8 +121,9 @@ impl FixedDir {
         if rows.iter().all(|r| r.shift == common) {
             return FixedDir::from_i64([row(&rows[0]), row(&rows[1]), row(&rows[2])], e - common as i32);
         }
-        let w: [i128; 3] = core::array::from_fn(|i| (row(&rows[i]) as i128) << (common - rows[i].shift));
-        FixedDir::from_wide(w, e - common as i32)
+        let w = [row(&rows[0]), row(&rows[1]), row(&rows[2])];
+        let s = core::array::from_fn(|i| common - rows[i].shift);
+        FixedDir::from_scaled(w, s, e - common as i32)
     }
 
     /// `|self|` as a mantissa below 2^32 at scale `2^e`.
@@ -272,11 +283,15 @@ fn within_rim(p: [i64; 3], u: [I16F16; 3]) -> Option<bool> {
 #[inline]
 pub(crate) fn div_round_i64(n: i64, d: i64) -> i64 {
     let du = d.unsigned_abs();
+    // On the M0 `div_rem_u64` holds the one copy of the reciprocal division
+    // (a second one here took 600 bytes for a rare path).
+    #[cfg(not(lensray_v6m))]
     if du >> 32 == 0 {
         return div_round_i64_by(n, &Recip::new(du as u32), d < 0);
     }
     let nu = n.unsigned_abs();
-    let q = (nu / du + u64::from(nu % du >= du - du / 2)) as i64;
+    let (q, r) = crate::number::wide::div_rem_u64(nu, du);
+    let q = (q + u64::from(r >= du - du / 2)) as i64;
     if (n < 0) != (d < 0) {
         -q
     } else {
@@ -287,6 +302,8 @@ pub(crate) fn div_round_i64(n: i64, d: i64) -> i64 {
 /// `n / d` rounded to nearest (ties away from zero), exactly as
 /// [`div_round_i64`], for the divisor `d = ±r.divisor()` with the sign
 /// `d_neg`: several divisions by one `d` compute its reciprocal once.
+// The M0 divides through `div_rem_u64` instead (one copy of the division).
+#[cfg_attr(lensray_v6m, allow(dead_code))]
 #[inline]
 pub(crate) fn div_round_i64_by(n: i64, r: &Recip, d_neg: bool) -> i64 {
     let (q, rem) = r.div_rem(n.unsigned_abs());
@@ -309,6 +326,13 @@ pub(crate) fn shr_round(x: i64, s: u32) -> i64 {
     (r >> 1) + (r & 1)
 }
 
+/// [`shr_round`] as one out-of-line copy on the M0, for rare paths.
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline)]
+pub(crate) fn shr_round_call(x: i64, s: u32) -> i64 {
+    shr_round(x, s)
+}
+
 /// Saturates an i64 to the i32 range.
 #[inline]
 pub(crate) fn sat32(x: i64) -> i32 {
@@ -318,5 +342,47 @@ pub(crate) fn sat32(x: i64) -> i32 {
         i32::MIN
     } else {
         x as i32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The i128 form `from_scaled` replaces: the reference.
+    fn from_wide(w: [i128; 3], e: i32) -> FixedDir {
+        let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
+        let k = (128 - big.leading_zeros()).saturating_sub(31);
+        let m = w.map(|x| {
+            if k == 0 {
+                x as i64
+            } else {
+                (((x >> (k - 1)) + 1) >> 1) as i64
+            }
+        });
+        FixedDir {
+            m,
+            e: e + k as i32,
+            unit: false,
+        }
+    }
+
+    #[test]
+    fn scaled_rows_normalise_as_in_i128() {
+        let mut next = crate::test_rng::xorshift32(128);
+        for i in 0..200_000u32 {
+            let (a, b) = (next(), next());
+            let mut w = [0i64; 3];
+            let mut s = [0u32; 3];
+            for j in 0..3 {
+                let x = ((next() as u64) << 32 | next() as u64) as i64;
+                // Sums of rows: below 2^62, any length down to 0.
+                w[j] = if (a >> j) & 7 == 0 { 0 } else { x >> (2 + next() % 62) };
+                s[j] = if i % 4 == 0 { 0 } else { (b >> (5 * j)) % 31 };
+            }
+            let wide = core::array::from_fn(|j| (w[j] as i128) << s[j]);
+            let (got, want) = (FixedDir::from_scaled(w, s, 7), from_wide(wide, 7));
+            assert_eq!((got.m, got.e), (want.m, want.e), "{w:?} << {s:?}");
+        }
     }
 }

@@ -11,18 +11,47 @@
 //! a cone's apex by 0.01 of its size.
 
 use crate::number::q16::div_round_i64;
-use crate::number::wide::{isqrt_round_u64, mul_i32, mul_u32};
+use crate::number::wide::{div_rem_u64, isqrt_round_u64, mul_i32, mul_u32};
 use fixed::types::I16F16;
 
 /// `n / d` as Q16.16 bits, rounded and saturated, for `d != 0`.
 fn ratio_q16(n: i64, d: i64) -> I16F16 {
     let q = if n.unsigned_abs() < 1 << 46 {
-        div_round_i64(n << 16, d) as i128
+        div_round_i64(n << 16, d)
     } else {
-        // Rare (object-space origins far along a squashed axis): wide division.
-        ((n as i128) << 16) / d as i128
+        // Rare (object-space origins far along a squashed axis).
+        wide_ratio_trunc(n, d)
     };
-    I16F16::from_bits(q.clamp(i32::MIN as i128, i32::MAX as i128) as i32)
+    I16F16::from_bits(q.clamp(i32::MIN as i64, i32::MAX as i64) as i32)
+}
+
+/// `n · 2^16 / d` truncated towards zero, for `d != 0`, exactly where it lies
+/// within ±2^32 (beyond, ±2^32: the caller saturates to 32 bits anyway). A
+/// u64 division and 16 steps of long division: an i128 division is expanded
+/// in place on the Cortex-M0 (900 bytes of its flash).
+fn wide_ratio_trunc(n: i64, d: i64) -> i64 {
+    let (nu, du) = (n.unsigned_abs(), d.unsigned_abs().max(1));
+    let (q1, mut r) = div_rem_u64(nu, du);
+    let q = if q1 >> 16 != 0 {
+        1 << 32
+    } else {
+        let mut q = q1;
+        for _ in 0..16 {
+            // r < du <= 2^63: doubling it never wraps.
+            r <<= 1;
+            q <<= 1;
+            if r >= du {
+                r -= du;
+                q |= 1;
+            }
+        }
+        q
+    } as i64;
+    if (n < 0) != (d < 0) {
+        -q
+    } else {
+        q
+    }
 }
 
 /// `a · b` exactly, from four 32 × 32-bit products: no i128 multiply (a
@@ -103,6 +132,29 @@ pub(crate) fn side_roots(o: [I16F16; 3], d: [I16F16; 3], cone: bool, close: &mut
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn wide_ratio_is_the_i128_quotient() {
+        let mut next = crate::test_rng::xorshift32(46);
+        for i in 0..100_000usize {
+            let (w1, w2, w3, sh) = (next(), next(), next(), next());
+            let word = ((w1 as u64) << 32 | w2 as u64) as i64;
+            let n = match i % 3 {
+                0 => word | (1 << 46),
+                1 => -(word >> 1 | 1 << 46),
+                _ => [i64::MIN, i64::MAX, 1 << 46, -(1 << 46)][i / 3 % 4],
+            };
+            let dw = ((w3 as u64) << 32 | w1 as u64) as i64;
+            let d = match i % 5 {
+                0 => [1, -1, i64::MIN, i64::MAX, 3][i / 5 % 5],
+                _ => ((dw >> (sh % 63)) & i64::MAX).max(1) * if i % 2 == 0 { 1 } else { -1 },
+            };
+            let want = (((n as i128) << 16) / d as i128).clamp(-(1 << 32), 1 << 32) as i64;
+            assert_eq!(wide_ratio_trunc(n, d), want, "{n} / {d}");
+            let clamp = |x: i64| x.clamp(i32::MIN as i64, i32::MAX as i64);
+            assert_eq!(ratio_q16(n, d).to_bits() as i64, clamp(want), "{n} / {d}");
+        }
+    }
 
     /// Against the roots in f64 of the same Q16.16 ray, over rays through the
     /// cone near its apex, nearly along its lines, and through the cylinder:

@@ -143,6 +143,18 @@ fn clz32_search(mut x: u32) -> u32 {
 pub(crate) fn bits_u64(x: u64) -> u32 {
     let hi = (x >> 32) as u32;
     if hi != 0 {
+        64 - clz32_call(hi)
+    } else {
+        32 - clz32_call(x as u32)
+    }
+}
+
+/// [`bits_u64`] with the leading zeros counted in place: for the per-ray
+/// paths (the camera ray's direction, the plane's hit).
+#[inline(always)]
+pub(crate) fn bits_u64_inline(x: u64) -> u32 {
+    let hi = (x >> 32) as u32;
+    if hi != 0 {
         64 - clz32(hi)
     } else {
         32 - clz32(x as u32)
@@ -178,7 +190,8 @@ pub(crate) fn sar64(x: i64, s: u32) -> i64 {
     }
 }
 
-/// Leading zeros of a u32.
+/// Leading zeros of a u32: in place, for the square roots and reciprocals
+/// of every ray.
 #[inline(always)]
 fn clz32(x: u32) -> u32 {
     #[cfg(lensray_v6m)]
@@ -189,6 +202,14 @@ fn clz32(x: u32) -> u32 {
     {
         x.leading_zeros()
     }
+}
+
+/// [`clz32`] as one out-of-line copy on the M0, for the bit lengths of the
+/// rarer exact paths (inlined everywhere it took 2 KB of flash).
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline(always))]
+fn clz32_call(x: u32) -> u32 {
+    clz32(x)
 }
 
 /// Rounded `1 / sqrt(x)` in Q1.15 at the middle of each interval
@@ -324,7 +345,9 @@ fn isqrt_estimate_u64(n: u64) -> u32 {
 /// Table start and Newton steps by products only (see
 /// [`isqrt_estimate_u64`]), then an exact correction by squares: some 150
 /// instructions on a Cortex-M0 where the bit-by-bit method took 500 or more.
-#[inline]
+// One copy on the M0 (the per-ray normalisation calls it already).
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline)]
 pub(crate) fn isqrt_rem_u64(n: u64) -> (u64, u64) {
     if n >> 32 == 0 {
         let (r, rem) = isqrt_rem_u32(n as u32);
@@ -417,7 +440,8 @@ fn div_2by1(u1: u32, u0: u32, d: u32, v: u32) -> (u32, u32) {
 #[derive(Copy, Clone, Debug)]
 #[cfg_attr(not(lensray_v6m), allow(dead_code))]
 pub(crate) struct RecipMul {
-    /// The divisor.
+    /// The divisor (read by `div_round_i64_by`, which the M0 leaves to `div_rem_u64`).
+    #[cfg_attr(lensray_v6m, allow(dead_code))]
     d: u32,
     /// `d << s`, at least 2^31.
     dn: u32,
@@ -447,6 +471,7 @@ impl RecipMul {
 
     /// The divisor.
     #[inline(always)]
+    #[cfg_attr(lensray_v6m, allow(dead_code))]
     pub(crate) fn divisor(&self) -> u32 {
         self.d
     }
@@ -576,7 +601,37 @@ pub(crate) fn div_rem_u64(n: u64, d: u64) -> (u64, u64) {
         let (q, r) = div_rem_u64_u32(n, d as u32);
         (q, r as u64)
     } else {
-        (n / d, n % d)
+        #[cfg(lensray_v6m)]
+        {
+            div_rem_u64_big(n, d)
+        }
+        #[cfg(not(lensray_v6m))]
+        {
+            (n / d, n % d)
+        }
+    }
+}
+
+/// `(n / d, n % d)` exactly for `d >= 2^32` (the quotient fits 32 bits),
+/// from one `u64 / u32` division by d's top word (Warren, Hacker's Delight,
+/// `divlu`): on the Cortex-M0 it keeps the runtime's 1 KB `u64 / u64` out.
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+#[inline(never)]
+pub(crate) fn div_rem_u64_big(n: u64, d: u64) -> (u64, u64) {
+    debug_assert!(d >> 32 != 0);
+    let s = clz32((d >> 32) as u32);
+    // d's top 32 bits once normalised (at least 2^31), and n halved so that
+    // the quotient fits 32 bits.
+    let d1 = ((d << s) >> 32) as u32;
+    // Through `div_rem_u64`'s own copy of the reciprocal division (one copy, not two).
+    let q1 = div_rem_u64(n >> 1, d1 as u64).0;
+    // q or q + 1 (Warren): one less, then at most one correction.
+    let q = ((q1 << s) >> 31).saturating_sub(1);
+    let r = n - mul_u64(q, d);
+    if r >= d {
+        (q + 1, r - d)
+    } else {
+        (q, r)
     }
 }
 
@@ -592,6 +647,33 @@ mod tests {
             s ^= s << 25;
             s ^= s >> 27;
             s.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        }
+    }
+
+    #[test]
+    fn big_divisors_divide_exactly() {
+        let mut r = rng(15);
+        let edges = [
+            1u64 << 32,
+            (1 << 32) + 1,
+            u64::MAX,
+            u64::MAX - 1,
+            1 << 63,
+            (1 << 63) - 1,
+            3 << 32,
+        ];
+        for i in 0..200_000 {
+            let d = match i % 4 {
+                0 => edges[(r() % edges.len() as u64) as usize],
+                _ => (r() >> (r() % 32)) | 1 << 32,
+            };
+            let n = match i % 3 {
+                0 => u64::MAX - r() % 4,
+                1 => r() >> (r() % 64),
+                _ => r(),
+            };
+            assert_eq!(div_rem_u64_big(n, d), (n / d, n % d), "{n} / {d}");
+            assert_eq!(div_rem_u64(n, d), (n / d, n % d), "{n} / {d}");
         }
     }
 

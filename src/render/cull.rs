@@ -92,7 +92,7 @@ impl<S: Scalar> LensCones<S> {
     #[inline(always)]
     pub fn may_reach(&self, i: usize, d: Vec3<S>) -> bool {
         match self.cones.get(i) {
-            Some(c) => c.always || d.dot(c.axis) >= c.cos_min,
+            Some(c) => c.always || d.dot_inline(c.axis) >= c.cos_min,
             None => true,
         }
     }

@@ -137,19 +137,31 @@ pub fn survey_stride(cols: u32, rows: u32) -> Option<u32> {
 /// which it stops whatever its samples, in sixteenths (4: a quarter level²;
 /// at one level², pixels of faint noise stopped at the pilot summed to more
 /// error than `point` independent samples leave).
-const ADAPTIVE_VAR_SIXTEENTHS: u128 = 4;
+const ADAPTIVE_VAR_SIXTEENTHS: u64 = 4;
 
 /// The variance of an adaptive pixel's mean below which it stops, relative
 /// to that of the independent full render (s²/`point`), in sixteenths (16:
 /// the same; twice it let pilots of 8 stop at 1.5 times the independent
 /// render's error on unseen scenes).
-const ADAPTIVE_REL_SIXTEENTHS: u128 = 16;
+const ADAPTIVE_REL_SIXTEENTHS: u64 = 16;
 
 /// How many times lower than the independent estimate s²/n the stratified
 /// samples' variance is believed at most: the safety margin that makes a
 /// pixel with much contrast among its samples go on even when its quarters
 /// agree by chance.
-const ADAPTIVE_MAX_GAIN: u128 = 8;
+const ADAPTIVE_MAX_GAIN: u64 = 8;
+
+/// `a · b` exactly, as its high and low 64-bit words (compared as a tuple).
+fn mul_wide(a: u64, b: u64) -> (u64, u64) {
+    let (a0, a1, b0, b1) = (a & 0xFFFF_FFFF, a >> 32, b & 0xFFFF_FFFF, b >> 32);
+    let (p00, p01, p10) = (a0 * b0, a0 * b1, a1 * b0);
+    // Below 3 · 2³²: no carry is lost.
+    let mid = (p00 >> 32) + (p01 & 0xFFFF_FFFF) + (p10 & 0xFFFF_FFFF);
+    (
+        a1 * b1 + (p01 >> 32) + (p10 >> 32) + (mid >> 32),
+        (p00 & 0xFFFF_FFFF) | (mid << 32),
+    )
+}
 
 /// Running sums of a pixel's samples in 8-bit levels (unclamped: a lamp
 /// brighter than white weighs what it adds to the mean), per channel, in
@@ -189,34 +201,44 @@ impl LevelStats {
     /// independent full render. In integers, exactly, with h = n/4, Q the
     /// total and q_j the quarters' sums: 192 h² V_q = Σ(4 q_j − Q)² and
     /// n (n − 1) s² = n Σx² − Q².
+    ///
+    /// In u64 with one 128-bit comparison (u128 arithmetic inline took 2.4 KB
+    /// of the Cortex-M0's flash): with Σq_j = Q, Σ(4 q_j − Q)² = 4 D,
+    /// D = 4 Σq_j² − Q² <= 3 Q² (Q < 2³¹: n <= 2¹⁵ samples below 2¹⁶ levels).
+    /// Not settled, it returns the samples' spread (see below).
     fn settled(&self, n: u32, full: u32) -> Option<u32> {
+        const T: u64 = ADAPTIVE_VAR_SIXTEENTHS;
+        const REL: u64 = ADAPTIVE_REL_SIXTEENTHS;
+        const GAIN: u64 = ADAPTIVE_MAX_GAIN;
+        // The divisions by 16 below are exact.
+        const _: () = assert!((GAIN * T).is_multiple_of(16));
         let n32 = n;
-        let (n, h, full) = (n as u128, (n / 4) as u128, full as u128);
-        let (t, rel, gain) = (ADAPTIVE_VAR_SIXTEENTHS, ADAPTIVE_REL_SIXTEENTHS, ADAPTIVE_MAX_GAIN);
-        // The same for every channel: computed once (128-bit products are
-        // library calls on the M0).
-        let quarters_bound = 192 * h * h;
-        let abs_q = quarters_bound * t;
-        let abs_s = gain * t * n * n * (n - 1);
-        let rel_q = full * 16 * n * (n - 1);
-        let rel_ok = full * 16 <= rel * n * gain;
-        let (mut settled, mut var) = (true, 0u128);
+        let (n, h, full) = (n as u64, (n / 4) as u64, full as u64);
+        // n = 4h: 16 V_q <= T/16 · 192 h² reads D <= 3 T h², and 16 s²/(n G) <= T
+        // reads spread <= G T n² (n − 1) / 16.
+        let abs_d = 3 * T * h * h;
+        let abs_s = GAIN * T / 16 * n * n * (n - 1);
+        let rel_ok = full * 16 <= REL * n * GAIN;
+        let (mut settled, mut var) = (true, 0u64);
         for i in 0..3 {
-            let q: [u128; 4] = core::array::from_fn(|j| self.quarter[j][i] as u128);
-            let total = q[0] + q[1] + q[2] + q[3];
-            let spread_q: u128 = q.iter().map(|&x| (4 * x).abs_diff(total).pow(2)).sum();
-            let spread = (n * self.sum_sq[i] as u128).saturating_sub(total * total);
-            var += spread;
-            // V_q <= t/16 and s²/(n G) <= t/16.
-            let absolute = spread_q * 16 <= abs_q && spread * 16 <= abs_s;
-            // V_q <= (rel/16) s²/full and s²/(n G) <= (rel/16) s²/full.
-            settled &= absolute || (rel_ok && spread_q * rel_q <= rel * spread * quarters_bound);
+            let (mut total, mut squares) = (0u64, 0u64);
+            for quarter in &self.quarter {
+                let q = quarter[i] as u64;
+                total += q;
+                squares += q * q;
+            }
+            let d = 4 * squares - total * total;
+            let spread = (n * self.sum_sq[i]).saturating_sub(total * total);
+            var = var.saturating_add(spread);
+            let absolute = d <= abs_d && spread <= abs_s;
+            // 4 D · 16 full n (n − 1) <= REL spread · 192 h², over 64 h.
+            settled &= absolute || (rel_ok && mul_wide(d, 4 * full * (4 * h - 1)) <= mul_wide(spread, 3 * REL * h));
         }
         // Not settled: the samples' spread √(Σ s²) over the channels, in
         // sixteenths of a level, 256 Σ s² = 256 Σ (n Σx² − Q²) / (n (n − 1))
         // (in u64, saturating: a 128-bit division and square root here cost
         // the M0 3.5 KB of flash; the shared integer square root).
-        let var = if var >> 56 == 0 { (var as u64) << 8 } else { u64::MAX };
+        let var = if var >> 56 == 0 { var << 8 } else { u64::MAX };
         // n is 8 to 2¹⁶: n (n − 1) fits a u32.
         (!settled).then(|| (crate::number::wide::isqrt_rem_u64(var / (n32 * (n32 - 1)) as u64).0 as u32).max(1))
     }
@@ -629,4 +651,105 @@ pub(crate) fn addressable_area<S: Scalar, D: DrawTarget>(renderer: &Renderer<'_,
 /// How many coordinates from `start` up fit in an i32: `i32::MAX - start + 1`, capped.
 pub(crate) fn addressable(start: i32) -> u32 {
     u32::try_from(i32::MAX as i64 - start as i64 + 1).unwrap_or(u32::MAX)
+}
+
+#[cfg(test)]
+mod settled_tests {
+    use super::*;
+
+    /// The samples' spread in 128-bit integers as first written: the reference.
+    fn spread_u128(s: &LevelStats, n: u32) -> u32 {
+        let n = n as u128;
+        let var: u128 = (0..3)
+            .map(|i| {
+                let total: u128 = s.quarter.iter().map(|q| q[i] as u128).sum();
+                (n * s.sum_sq[i] as u128).saturating_sub(total * total)
+            })
+            .sum();
+        let scaled = (var << 8) / (n * (n - 1));
+        (scaled.isqrt() as u32).max(1)
+    }
+
+    /// The test in 128-bit integers as first written: the reference.
+    fn settled_u128(s: &LevelStats, n: u32, full: u32) -> bool {
+        let (n, h, full) = (n as u128, (n / 4) as u128, full as u128);
+        let (t, rel, gain) = (
+            ADAPTIVE_VAR_SIXTEENTHS as u128,
+            ADAPTIVE_REL_SIXTEENTHS as u128,
+            ADAPTIVE_MAX_GAIN as u128,
+        );
+        let quarters_bound = 192 * h * h;
+        let abs_q = quarters_bound * t;
+        let abs_s = gain * t * n * n * (n - 1);
+        let rel_q = full * 16 * n * (n - 1);
+        let rel_ok = full * 16 <= rel * n * gain;
+        (0..3).all(|i| {
+            let q: [u128; 4] = core::array::from_fn(|j| s.quarter[j][i] as u128);
+            let total = q[0] + q[1] + q[2] + q[3];
+            let spread_q: u128 = q.iter().map(|&x| (4 * x).abs_diff(total).pow(2)).sum();
+            let spread = (n * s.sum_sq[i] as u128).saturating_sub(total * total);
+            let absolute = spread_q * 16 <= abs_q && spread * 16 <= abs_s;
+            absolute || (rel_ok && spread_q * rel_q <= rel * spread * quarters_bound)
+        })
+    }
+
+    #[test]
+    fn mul_wide_is_the_u128_product() {
+        let mut next = crate::test_rng::xorshift32(7);
+        for _ in 0..20_000 {
+            let a = ((next() as u64) << 32 | next() as u64) >> (next() % 64);
+            let b = ((next() as u64) << 32 | next() as u64) >> (next() % 64);
+            let p = a as u128 * b as u128;
+            assert_eq!(mul_wide(a, b), ((p >> 64) as u64, p as u64), "{a} * {b}");
+        }
+        assert_eq!(mul_wide(u64::MAX, u64::MAX), (u64::MAX - 1, 1));
+    }
+
+    /// Pixels of samples around a mean with a spread from none to the whole
+    /// range (lamps up to 2¹⁶ levels among them), checked at every power of
+    /// two up to 2¹⁵ samples against a `full` of up to 65535: both tests
+    /// agree on every one, and both answers occur.
+    #[test]
+    fn settled_in_u64_is_the_u128_test() {
+        let mut next = crate::test_rng::xorshift32(0x05e7_71ed);
+        let (mut yes, mut no) = (0, 0);
+        for pixel in 0..400 {
+            let mean = next() % 70_000;
+            let spread = [0, 1, 3, 20, 300, 65_535][pixel % 6];
+            let full = [16, 25, 64, 100, 1000, 65_535][(next() % 6) as usize];
+            let top = if pixel % 3 == 0 { 1 << 15 } else { 1 << 10 };
+            let mut s = LevelStats::default();
+            let mut check = 4;
+            for k in 0..top {
+                let level = |r: u32| (mean + r % (2 * spread + 1)).saturating_sub(spread).min(65_535);
+                // Only the level sums matter here: one colour channel each.
+                for i in 0..3 {
+                    let l = level(next());
+                    let q = (k / (check / 4)).min(3) as usize;
+                    s.quarter[q][i] += l;
+                    s.sum_sq[i] += (l * l) as u64;
+                }
+                if k + 1 == check {
+                    let spread = s.settled(check, full);
+                    let got = spread.is_none();
+                    assert_eq!(
+                        got,
+                        settled_u128(&s, check, full),
+                        "n {check} full {full} pixel {pixel}"
+                    );
+                    if let Some(spread) = spread {
+                        assert_eq!(spread, spread_u128(&s, check), "n {check} pixel {pixel}");
+                    }
+                    if got {
+                        yes += 1;
+                    } else {
+                        no += 1;
+                    }
+                    s.double();
+                    check *= 2;
+                }
+            }
+        }
+        assert!(yes > 100 && no > 100, "{yes} settled, {no} not");
+    }
 }

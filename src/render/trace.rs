@@ -112,8 +112,11 @@ impl<S: Scalar> Scene<S> {
         let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::HIT_EPSILON, cones) else {
             return self.background;
         };
-        let obj = &self.objects[i];
-        let p = o + d * hit.t;
+        // Always there (the search's own index); `get` spares a panicking bounds check.
+        let Some(obj) = self.objects.get(i) else {
+            return self.background;
+        };
+        let p = o + d.scale(hit.t);
         let (n, outside) = obj.facing_normal(&hit, d);
         // Every shape is convex: a shadow ray leaving the lit side of its own
         // surface never meets it again, so it is not tested (at a large
@@ -147,7 +150,7 @@ impl<S: Scalar> Scene<S> {
                 continue;
             }
             let (l, dist) = to_light.normalize_len();
-            let n_dot_l = n.dot(l);
+            let n_dot_l = n.dot_inline(l);
             if n_dot_l <= S::ZERO {
                 continue;
             }
@@ -157,10 +160,10 @@ impl<S: Scalar> Scene<S> {
             if self.shadows && self.shadowed(p_shadow, l, to_light, dist, S::HIT_EPSILON, own) {
                 continue;
             }
-            let r = n * n_dot_l.add(n_dot_l) - l;
-            let r_dot_v = r.dot(v).max(S::ZERO);
-            let diffuse = kd * n_dot_l;
-            let specular = m.ks * r_dot_v.powf(m.shine);
+            let r = n.scale(n_dot_l.add(n_dot_l)) - l;
+            let r_dot_v = r.dot_inline(v).max(S::ZERO);
+            let diffuse = kd.scale(n_dot_l);
+            let specular = m.ks.scale(r_dot_v.powf(m.shine));
             colour = colour + (diffuse + specular).hadamard(light.intensity);
         }
         colour

@@ -260,7 +260,7 @@ impl<S: Scalar> Object<S> {
         let (center, radius) = self.bound?;
         // Cheap reject against the world bounding sphere.
         let oc = center - o;
-        let tc = oc.dot(d);
+        let tc = oc.dot_inline(d);
         if tc.add(radius) <= t_min || tc.sub(radius) >= t_max {
             return None;
         }
@@ -417,7 +417,7 @@ impl<S: Scalar> Object<S> {
         } else {
             self.normal_to_world.vector_unit(hit.local.n).0
         };
-        if n.dot(d) > S::ZERO {
+        if n.dot_inline(d) > S::ZERO {
             (-n, false)
         } else {
             (n, true)
