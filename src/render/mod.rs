@@ -240,7 +240,11 @@ impl LevelStats {
         // the M0 3.5 KB of flash; the shared integer square root).
         let var = if var >> 56 == 0 { var << 8 } else { u64::MAX };
         // n is 8 to 2¹⁶: n (n − 1) fits a u32.
-        (!settled).then(|| (crate::number::wide::isqrt_rem_u64(var / (n32 * (n32 - 1)) as u64).0 as u32).max(1))
+        // The shared exact division: a plain u64 `/` brought the M0 runtime's 1 KB routine and a panic path.
+        (!settled).then(|| {
+            let per = crate::number::wide::div_rem_u64(var, (n32 * (n32 - 1)) as u64).0;
+            (crate::number::wide::isqrt_rem_u64(per).0 as u32).max(1)
+        })
     }
 
     /// Moves on to the next check at twice the samples: the four quarters

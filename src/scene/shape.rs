@@ -221,13 +221,16 @@ fn cube<S: Scalar>(
         return None;
     }
     // Entering face if it is ahead, else the exit face (ray from inside).
-    let (t, axis, outward) = if inside(t_near, t_min, t_max) {
-        (t_near, near_axis, d[near_axis] < S::ZERO)
+    let (t, axis, entering) = if inside(t_near, t_min, t_max) {
+        (t_near, near_axis, true)
     } else if inside(t_far, t_min, t_max) {
-        (t_far, far_axis, d[far_axis] >= S::ZERO)
+        (t_far, far_axis, false)
     } else {
         return None;
     };
+    // Always 0..=2 (k from `Kernels::exact_point` too): keeps bounds checks and their panic path out.
+    let axis = axis.min(2);
+    let outward = (d[axis] < S::ZERO) == entering;
     let mut p = [0, 1, 2].map(|i| o[i].add(d[i].mul(t)));
     // Near an edge: which face (or whether the cube at all) is in doubt.
     let edge = S::ONE.sub(close_band());
