@@ -160,16 +160,7 @@ pub(crate) fn exact_point(
     let g = d.e.checked_neg().filter(|g| (1..=30).contains(g))? as u32;
     let (mut hi, mut lo) = ([0i64; 3], [0i64; 3]);
     for i in 0..3 {
-        if d.m[i].unsigned_abs() >= 1 << 31 {
-            return None;
-        }
-        let p = ((o[i].to_bits() as i64) << g) + mul_once(d.m[i], s.to_bits() as i64);
-        hi[i] = p >> g;
-        if hi[i] != hi[i] as i32 as i64 {
-            return None;
-        }
-        // 0 <= p − hi 2^g < 2^30.
-        lo[i] = p - (hi[i] << g);
+        (hi[i], lo[i]) = split_at_g(o[i].to_bits(), d.m[i], s.to_bits() as i64, g)?;
     }
     // Each part through the rows' exact sums (31 significant bits kept: 2^-31
     // of the point's size), then added at 2^-30.
@@ -177,24 +168,49 @@ pub(crate) fn exact_point(
         FixedDir::exact_rows(rows, hi, true, -16),
         FixedDir::exact_rows(rows, lo, false, -16 - g as i32),
     );
-    let at30 = |m: i64, e: i32| {
-        let k = e + 30;
-        if k >= 0 {
-            m << k.min(32)
-        } else if k > -62 {
-            shr_round(m, (-k) as u32)
-        } else {
-            0
-        }
-    };
     let fine: [i64; 3] = core::array::from_fn(|j| at30(a.m[j], a.e) + at30(b.m[j], b.e));
-    let point = fine.map(|x| I16F16::from_bits(sat32(shr_round(x, 14))));
+    let point = fine.map(round14);
     let exact = if cube {
         cube_entry(fine, rows, d)
     } else {
         rim.and_then(|u| within_rim(fine, u)).map(|x| (x, 0))
     };
     Some((point, exact))
+}
+
+/// One axis of `o 2^g + m s` as its part at 2^-16 and the g bits below
+/// (`None` past the i32 range); out of line: the M0's flash.
+#[inline(never)]
+fn split_at_g(o: i32, m: i64, s: i64, g: u32) -> Option<(i64, i64)> {
+    if m.unsigned_abs() >= 1 << 31 {
+        return None;
+    }
+    let p = ((o as i64) << g) + mul_once(m, s);
+    let hi = p >> g;
+    if hi != hi as i32 as i64 {
+        return None;
+    }
+    // 0 <= p − hi 2^g < 2^30.
+    Some((hi, p - (hi << g)))
+}
+
+/// A mantissa at scale 2^e at 2^-30, rounded (out of line: the M0's flash).
+#[inline(never)]
+fn at30(m: i64, e: i32) -> i64 {
+    let k = e + 30;
+    if k >= 0 {
+        m << k.min(32)
+    } else if k > -62 {
+        shr_round(m, (-k) as u32)
+    } else {
+        0
+    }
+}
+
+/// A value at 2^-30 rounded to Q16.16, saturated (out of line: the M0's flash).
+#[inline(never)]
+fn round14(x: i64) -> I16F16 {
+    I16F16::from_bits(sat32(shr_round(x, 14)))
 }
 
 /// `rows · d` (no translation) at one scale, cut to 31 bits: each row's
