@@ -412,17 +412,22 @@ fn the_survey_sets_the_cap_from_the_frames_settled_share() {
             .unwrap();
     for (w, h, point) in [(40, 30, 40), (64, 48, 70), (96, 72, 33)] {
         let r = Renderer::new(&p1, w, h).with_samples(point);
-        let total: u64 = (0..h)
-            .flat_map(|y| (0..w).map(move |x| (x, y)))
-            .map(|(x, y)| r.pixel_rays(x, y).1 as u64)
-            .sum::<u64>()
-            + r.adaptive_cap().1 as u64;
+        let total = frame_rays(&r, w, h);
         assert!(
             total * 5 <= 2 * point as u64 * (w * h) as u64,
             "{w}x{h} point {point}: {:.1} rays",
             total as f64 / (w * h) as f64
         );
     }
+}
+
+/// Every ray a frame casts: its pixels' and its set-up survey's.
+fn frame_rays(r: &Renderer<'_, I16F16>, w: u32, h: u32) -> u64 {
+    (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| r.pixel_rays(x, y).1 as u64)
+        .sum::<u64>()
+        + r.adaptive_cap().1 as u64
 }
 
 #[test]
@@ -441,11 +446,7 @@ fn generated_lens_frames_stay_within_the_ray_budget_survey_included() {
         }
         judged += 1;
         let r = Renderer::new(&scene, w, h);
-        let rays: u64 = (0..h)
-            .flat_map(|y| (0..w).map(move |x| (x, y)))
-            .map(|(x, y)| r.pixel_rays(x, y).1 as u64)
-            .sum::<u64>()
-            + r.adaptive_cap().1 as u64;
+        let rays = frame_rays(&r, w, h);
         assert!(
             rays * 5 <= 2 * point as u64 * (w * h) as u64,
             "seed {seed}: {:.1} % of point",

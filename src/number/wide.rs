@@ -141,23 +141,24 @@ fn clz32_search(mut x: u32) -> u32 {
 /// call on the Cortex-M0.
 #[inline(always)]
 pub(crate) fn bits_u64(x: u64) -> u32 {
-    let hi = (x >> 32) as u32;
-    if hi != 0 {
-        64 - clz32_call(hi)
-    } else {
-        32 - clz32_call(x as u32)
-    }
+    bits_u64_by(x, clz32_call)
 }
 
 /// [`bits_u64`] with the leading zeros counted in place: for the per-ray
 /// paths (the camera ray's direction, the plane's hit).
 #[inline(always)]
 pub(crate) fn bits_u64_inline(x: u64) -> u32 {
+    bits_u64_by(x, clz32)
+}
+
+/// `64 - leading_zeros` of `x` from a 32-bit count `clz` (called or in place).
+#[inline(always)]
+fn bits_u64_by(x: u64, clz: impl Fn(u32) -> u32) -> u32 {
     let hi = (x >> 32) as u32;
     if hi != 0 {
-        64 - clz32(hi)
+        64 - clz(hi)
     } else {
-        32 - clz32(x as u32)
+        32 - clz(x as u32)
     }
 }
 
