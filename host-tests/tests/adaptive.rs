@@ -7,7 +7,8 @@
 //! --example adaptive_campaign`).
 
 use lensray::unstable::render::{
-    adaptive_limit, adaptive_pilot, dithered_cap, survey_stride, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT,
+    adaptive_limit, adaptive_pilot, adaptive_risk_pilot, dithered_cap, survey_stride, ADAPTIVE_MIN_PILOT,
+    ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT, SURVEY_MAX_RAYS, SURVEY_MIN_PIXELS,
 };
 use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
@@ -396,9 +397,27 @@ fn the_survey_sets_the_cap_from_the_frames_settled_share() {
     // so an unsettled pixel may take every sample; below the survey's size
     // the cap is 40 % of point.
     let empty = Scene::<I16F16>::parse("radius 0.3\npoint 64\n").unwrap();
-    assert_eq!(survey_stride(80, 60), Some(8));
-    assert_eq!(survey_stride(40, 30), Some(4));
-    assert_eq!(survey_stride(24, 18), None);
+    assert_eq!(survey_stride(80, 60, 70), Some(8));
+    assert_eq!(survey_stride(40, 30, 70), Some(4));
+    assert_eq!(survey_stride(24, 18, 70), None);
+    // Large frames at a large `point`: a sparser grid, its pilots within the
+    // bound, still enough pixels; else none.
+    for (cols, rows, samples) in [
+        (8192, 8192, 65535),
+        (4096, 3072, 4096),
+        (640, 480, 1000),
+        (320, 240, 70),
+    ] {
+        let s = survey_stride(cols, rows, samples).expect("a survey");
+        let count = (cols / s) as u64 * (rows / s) as u64;
+        assert!(
+            count * adaptive_risk_pilot(samples) as u64 <= SURVEY_MAX_RAYS,
+            "{cols}x{rows} at {samples}"
+        );
+        assert!(count >= SURVEY_MIN_PIXELS as u64, "{cols}x{rows} at {samples}");
+    }
+    assert_eq!(survey_stride(320, 240, 70), Some(8), "the paper's frames as before");
+    assert_eq!(survey_stride(160, 120, 65535), Some(16), "70 pixels of 16,384 rays");
     let r = Renderer::new(&empty, 80, 60);
     assert_eq!(r.adaptive_cap(), (64, 70 * ADAPTIVE_PILOT));
     assert_eq!(Renderer::new(&empty, 24, 18).adaptive_cap(), (adaptive_limit(64), 0));

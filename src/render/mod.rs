@@ -118,19 +118,32 @@ pub fn dithered_cap(cap: u32, col: u32, row: u32) -> u32 {
 /// unsettled pixels stop at [`adaptive_limit`].
 pub const SURVEY_MIN_PIXELS: u32 = 64;
 
+/// The most lens rays a survey's pilots may cast (2²²): its cost stays a
+/// set-up's, whatever the image size and `point` (8192×8192 at `point`
+/// 65535 would otherwise survey a million pixels of 16,384 rays each).
+pub const SURVEY_MAX_RAYS: u64 = 1 << 22;
+
 /// The spacing of the survey's grid of pixels in an image of `cols` ×
-/// `rows`: 8 (a 1/64 of the pixels, each at its pilot: at most a 64th of
-/// the frame's rays), or 4 where 8 gives fewer than [`SURVEY_MIN_PIXELS`];
-/// `None` where 4 does too.
-pub fn survey_stride(cols: u32, rows: u32) -> Option<u32> {
-    let count = |s: u32| (cols / s) * (rows / s);
-    if count(8) >= SURVEY_MIN_PIXELS {
-        Some(8)
-    } else if count(4) >= SURVEY_MIN_PIXELS {
-        Some(4)
-    } else {
-        None
+/// `rows` at `samples` a pixel: 8 (a 1/64 of the pixels, each at its pilot:
+/// at most a 64th of the frame's rays), or 4 where 8 gives fewer than
+/// [`SURVEY_MIN_PIXELS`]; doubled from 8 while the grid's pilots could cast
+/// more than [`SURVEY_MAX_RAYS`] (large images at a large `point`); `None`
+/// where the grid would have fewer than [`SURVEY_MIN_PIXELS`].
+pub fn survey_stride(cols: u32, rows: u32, samples: u32) -> Option<u32> {
+    let count = |s: u32| (cols / s) as u64 * (rows / s) as u64;
+    // A lamp's footprint doubles a pilot: the bound holds for any frame.
+    let pilot = adaptive_risk_pilot(samples) as u64;
+    if count(8) < SURVEY_MIN_PIXELS as u64 {
+        return (count(4) >= SURVEY_MIN_PIXELS as u64 && count(4) * pilot <= SURVEY_MAX_RAYS).then_some(4);
     }
+    let mut stride = 8u32;
+    while count(stride) * pilot > SURVEY_MAX_RAYS {
+        stride = stride.checked_mul(2)?;
+        if count(stride) < SURVEY_MIN_PIXELS as u64 {
+            return None;
+        }
+    }
+    Some(stride)
 }
 
 /// The variance of an adaptive pixel's mean, in 8-bit levels squared, below
@@ -301,7 +314,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         self.survey_rays = 0;
         self.spread = 0;
         let (cols, rows) = (self.camera.cols(), self.camera.rows());
-        let stride = survey_stride(cols, rows);
+        let stride = survey_stride(cols, rows, self.samples);
         let (true, Some(s), false) = (
             self.adaptive && self.samples >= ADAPTIVE_MIN_POINT,
             stride,
