@@ -402,22 +402,29 @@ fn the_survey_sets_the_cap_from_the_frames_settled_share() {
     assert_eq!(survey_stride(24, 18, 70), None);
     // Large frames at a large `point`: a sparser grid, its pilots within the
     // bound, still enough pixels; else none.
-    for (cols, rows, samples) in [
-        (8192, 8192, 65535),
-        (4096, 3072, 4096),
-        (640, 480, 1000),
-        (320, 240, 70),
+    for (cols, rows, samples, stride) in [
+        (8192, 8192, 65535, None),
+        (4096, 3072, 4096, Some(256)),
+        (640, 480, 1000, Some(32)),
+        (640, 480, 70, Some(8)),
+        (320, 240, 320, Some(8)),
+        (160, 120, 65535, None),
     ] {
-        let s = survey_stride(cols, rows, samples).expect("a survey");
-        let count = (cols / s) as u64 * (rows / s) as u64;
-        assert!(
-            count * adaptive_risk_pilot(samples) as u64 <= SURVEY_MAX_RAYS,
-            "{cols}x{rows} at {samples}"
-        );
-        assert!(count >= SURVEY_MIN_PIXELS as u64, "{cols}x{rows} at {samples}");
+        assert_eq!(survey_stride(cols, rows, samples), stride, "{cols}x{rows} at {samples}");
+        if let Some(s) = stride {
+            let count = (cols / s) as u64 * (rows / s) as u64;
+            assert!(
+                count * adaptive_risk_pilot(samples) as u64 <= SURVEY_MAX_RAYS,
+                "{cols}x{rows} at {samples}"
+            );
+            assert!(count >= SURVEY_MIN_PIXELS as u64, "{cols}x{rows} at {samples}");
+            assert!(
+                (cols / (s / 2)) as u64 * (rows / (s / 2)) as u64 * adaptive_risk_pilot(samples) as u64
+                    > SURVEY_MAX_RAYS
+                    || s == 8
+            );
+        }
     }
-    assert_eq!(survey_stride(320, 240, 70), Some(8), "the paper's frames as before");
-    assert_eq!(survey_stride(160, 120, 65535), Some(16), "70 pixels of 16,384 rays");
     let r = Renderer::new(&empty, 80, 60);
     assert_eq!(r.adaptive_cap(), (64, 70 * ADAPTIVE_PILOT));
     assert_eq!(Renderer::new(&empty, 24, 18).adaptive_cap(), (adaptive_limit(64), 0));

@@ -118,10 +118,11 @@ pub fn dithered_cap(cap: u32, col: u32, row: u32) -> u32 {
 /// unsettled pixels stop at [`adaptive_limit`].
 pub const SURVEY_MIN_PIXELS: u32 = 64;
 
-/// The most lens rays a survey's pilots may cast (2²²): its cost stays a
+/// The most lens rays a survey's pilots may cast (2¹⁸): its cost stays a
 /// set-up's, whatever the image size and `point` (8192×8192 at `point`
-/// 65535 would otherwise survey a million pixels of 16,384 rays each).
-pub const SURVEY_MAX_RAYS: u64 = 1 << 22;
+/// 65535 would otherwise survey a million pixels of 16,384 rays each; 640×480
+/// at `point` 70 and 320×240 at 320 survey every 8th pixel as before).
+pub const SURVEY_MAX_RAYS: u64 = 1 << 18;
 
 /// The spacing of the survey's grid of pixels in an image of `cols` ×
 /// `rows` at `samples` a pixel: 8 (a 1/64 of the pixels, each at its pilot:
