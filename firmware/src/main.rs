@@ -22,7 +22,6 @@ mod profile;
 #[cfg(target_arch = "riscv32")]
 mod riscv_start;
 mod row_file;
-mod semihosting;
 mod stack_paint;
 
 #[cfg(feature = "parse-on-device")]
@@ -32,8 +31,9 @@ use cortex_m_rt::{entry, exception, ExceptionFrame};
 #[cfg(feature = "parse-on-device")]
 use lensray::Scene;
 use lensray::{render_with, Renderer, Scalar};
+use lensray_firmware_cold::report::Report;
+use lensray_firmware_cold::semihosting::{self, exit, HostFile};
 use row_file::RowFile;
-use semihosting::{exit, HostFile};
 
 /// Build-time settings written by build.rs: `BOARD`, `SCENE`, `SCENE_NAME`,
 /// `WIDTH`, `HEIGHT`, `SAMPLES`, `Number`, `FAULT`.
@@ -49,12 +49,6 @@ const ROWS_FILE: &str = "lensray-rows.rgb";
 const ROW_BYTES: usize = WIDTH as usize * 3;
 /// How the f32 renderer takes square roots, for the report.
 const SQRT: &str = if cfg!(feature = "hw-sqrt") { "vsqrt.f32" } else { "libm" };
-/// The square root, as the report's first line shows it for f32.
-const SQRT_NOTE: &str = if cfg!(feature = "hw-sqrt") {
-    " (sqrt: vsqrt.f32)"
-} else {
-    " (sqrt: libm)"
-};
 /// The core, for the report.
 const CORE: &str = if cfg!(feature = "microbit") {
     "Cortex-M0"
@@ -94,25 +88,7 @@ fn load(loaded: &mut Loaded, console: &mut HostFile) -> bool {
 /// Fills `loaded` from the embedded scene, in place; a message on failure.
 #[cfg(not(feature = "parse-on-device"))]
 fn load(loaded: &mut Loaded, console: &mut HostFile) -> bool {
-    use lensray::baked::BakeError as E;
-    match loaded.load(SCENE) {
-        Ok(()) => true,
-        Err(e) => {
-            // Named without `core::fmt` (the host's `lensray bake` gives the details).
-            let what = match e {
-                E::Truncated { .. } => "truncated",
-                E::TrailingBytes { .. } => "bytes past its length",
-                E::ForeignMagic => "not a baked lensray scene",
-                E::Version { .. } => "another format version",
-                E::NumberType { .. } => "baked for the other number type",
-                E::Checksum => "checksum mismatch: corrupted",
-                E::OutOfRange(field) => field,
-                _ => "bad payload",
-            };
-            console.text(SCENE_NAME).text(" (baked): ").text(what).text("\n");
-            false
-        }
-    }
+    lensray_firmware_cold::load_baked(loaded, SCENE, SCENE_NAME, console)
 }
 
 /// The renderer of a loaded scene, with the build's sample override.
@@ -129,7 +105,7 @@ fn renderer(loaded: &Loaded) -> Renderer<'_, Number> {
 /// its cones and footprints out rather than copying them.
 #[cfg(not(feature = "parse-on-device"))]
 fn renderer(loaded: &mut Loaded) -> Renderer<'_, Number> {
-    loaded.take_renderer()
+    <Number as lensray_firmware_cold::Load>::take_renderer(loaded)
 }
 
 /// The instruction counter: SysTick on Arm.
@@ -215,110 +191,35 @@ fn main() -> ! {
         exit(1)
     }
 
-    let setup = instruction_count::instructions(t1 - t0);
-    let frame = instruction_count::instructions(t3 - t2);
-    let pixels = WIDTH as u64 * HEIGHT as u64;
-    let per_pixel = div_u64(frame + pixels / 2, pixels);
     let rays = renderer.rays_per_pixel();
-    let (flash, static_ram, peak, ram) = (
-        stack_paint::flash() as u64,
-        stack_paint::static_ram() as u64,
-        paint.peak_stack() as u64,
-        stack_paint::ram() as u64,
-    );
-    let f32_note = if Number::NAME == "f32" { SQRT_NOTE } else { "" };
-    let overflow_note = if paint.overflowed() {
-        " (or more: the paint is gone)"
-    } else {
-        ""
-    };
-    // Written piece by piece, without `core::fmt` (see HostFile::text).
-    let c = &mut console;
-    c.text("board ")
-        .text(BOARD)
-        .text(" (")
-        .text(CORE)
-        .text("), ")
-        .text(Number::NAME)
-        .text(f32_note);
-    c.text(", scene ")
-        .text(SCENE_NAME)
-        .text(" (")
-        .text(SCENE_FORM)
-        .text("), ");
-    c.num(WIDTH as u64)
-        .text("x")
-        .num(HEIGHT as u64)
-        .text(", ")
-        .num(rays as u64)
-        .text(" rays per pixel\n");
-    c.text("set-up: ").num(setup).text(" instructions\n");
-    c.text("frame: ")
-        .num(frame)
-        .text(" instructions, ")
-        .num(per_pixel)
-        .text(" instructions per pixel\n");
-    c.text("memory: flash ")
-        .num(flash)
-        .text(" bytes, static RAM ")
-        .num(static_ram);
-    c.text(" bytes, peak stack ")
-        .num(peak)
-        .text(" bytes")
-        .text(overflow_note)
-        .text(", RAM ")
-        .num(ram)
-        .text(" bytes\n");
-    c.text("report board=")
-        .text(BOARD)
-        .text(" number=")
-        .text(Number::NAME)
-        .text(" f32_sqrt=")
-        .text(SQRT);
-    c.text(" width=")
-        .num(WIDTH as u64)
-        .text(" height=")
-        .num(HEIGHT as u64)
-        .text(" rays=")
-        .num(rays as u64);
-    c.text(" scene_form=")
-        .text(SCENE_FORM)
-        .text(" setup=")
-        .num(setup)
-        .text(" frame=")
-        .num(frame);
-    c.text(" per_pixel=")
-        .num(per_pixel)
-        .text(" flash=")
-        .num(flash)
-        .text(" static_ram=")
-        .num(static_ram);
-    c.text(" peak_stack=")
-        .num(peak)
-        .text(" stack_overflow=")
-        .num(paint.overflowed() as u64)
-        .text(" ram=")
-        .num(ram);
-    let report = c.text(" calibration=").num(calibration).write_all(b"\n");
-    exit(if report.is_ok() { 0 } else { 1 })
+    report(&paint, &mut console, rays, [t0, t1, t2, t3], calibration)
 }
 
-/// `n / d` for `d > 0`, bit by bit: the runtime's `u64 / u64` is a kilobyte
-/// of the Cortex-M0's flash, for one division in the report.
-fn div_u64(n: u64, d: u64) -> u64 {
-    let (mut n, mut q, mut r) = (n, 0u64, 0u64);
-    // Shifts by one only (a variable u64 shift is a call on the M0).
-    for _ in 0..64 {
-        // r < d before the shift: no bit is lost while d < 2^63.
-        r = (r << 1) | (n >> 63);
-        n <<= 1;
-        q <<= 1;
-        if r >= d {
-            r -= d;
-            q |= 1;
-        }
-    }
-    q
+/// Writes the report and exits; out of line, so that the report's values
+/// are not held in `main`'s frame under the whole render.
+#[inline(never)]
+fn report(paint: &stack_paint::Paint, console: &mut HostFile, rays: u32, ticks: [u64; 4], calibration: u64) -> ! {
+    let [t0, t1, t2, t3] = ticks;
+    let report = Report {
+        board: BOARD,
+        core: CORE,
+        number: Number::NAME,
+        sqrt: SQRT,
+        scene_name: SCENE_NAME,
+        scene_form: SCENE_FORM,
+        width: WIDTH,
+        height: HEIGHT,
+        rays,
+        setup: instruction_count::instructions(t1 - t0),
+        frame: instruction_count::instructions(t3 - t2),
+        flash: stack_paint::flash() as u64,
+        static_ram: stack_paint::static_ram() as u64,
+        peak_stack: paint.peak_stack() as u64,
+        overflowed: paint.overflowed(),
+        ram: stack_paint::ram() as u64,
+        calibration,
+    };
+    exit(if report.write(console).is_ok() { 0 } else { 1 })
 }
 
 #[cfg(feature = "parse-on-device")]
@@ -328,7 +229,7 @@ fn new_loaded() -> Loaded {
 
 #[cfg(not(feature = "parse-on-device"))]
 fn new_loaded() -> Loaded {
-    Loaded::empty()
+    <Number as lensray_firmware_cold::Load>::empty()
 }
 
 #[cfg(target_arch = "arm")]

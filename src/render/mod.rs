@@ -220,6 +220,9 @@ impl LevelStats {
     /// of the Cortex-M0's flash): with Σq_j = Q, Σ(4 q_j − Q)² = 4 D,
     /// D = 4 Σq_j² − Q² <= 3 Q² (Q < 2³¹: n <= 2¹⁵ samples below 2¹⁶ levels).
     /// Not settled, it returns the samples' spread (see below).
+    // Out of line: inlined into the firmware's `main` it grew the frame held
+    // under every pixel (the Cortex-M0's stack).
+    #[inline(never)]
     fn settled(&self, n: u32, full: u32) -> Option<u32> {
         const T: u64 = ADAPTIVE_VAR_SIXTEENTHS;
         const REL: u64 = ADAPTIVE_REL_SIXTEENTHS;

@@ -1,0 +1,140 @@
+//! The firmware's closing report: three lines for people and one
+//! `report key=value ...` line for the host, written without `core::fmt`.
+
+use crate::semihosting::{HostFile, IoError};
+
+/// What a run measured, and what it ran.
+pub struct Report<'a> {
+    pub board: &'a str,
+    pub core: &'a str,
+    /// The number type's name (`Q16.16` or `f32`).
+    pub number: &'a str,
+    /// How f32 square roots are taken (`libm` or `vsqrt.f32`).
+    pub sqrt: &'a str,
+    pub scene_name: &'a str,
+    /// `baked` or `parsed`.
+    pub scene_form: &'a str,
+    pub width: u32,
+    pub height: u32,
+    pub rays: u32,
+    /// Instructions of the set-up and of the frame.
+    pub setup: u64,
+    pub frame: u64,
+    /// Bytes.
+    pub flash: u64,
+    pub static_ram: u64,
+    pub peak_stack: u64,
+    /// The stack ran past its paint: the peak is a lower bound.
+    pub overflowed: bool,
+    pub ram: u64,
+    /// Instructions counted for a loop of 2,000,000.
+    pub calibration: u64,
+}
+
+impl Report<'_> {
+    /// Instructions a pixel, rounded.
+    pub fn per_pixel(&self) -> u64 {
+        let pixels = self.width as u64 * self.height as u64;
+        div_u64(self.frame + pixels / 2, pixels)
+    }
+
+    /// Writes the report to `c`.
+    pub fn write(&self, c: &mut HostFile) -> Result<(), IoError> {
+        let per_pixel = self.per_pixel();
+        let f32_note = match (self.number, self.sqrt) {
+            ("f32", "libm") => " (sqrt: libm)",
+            ("f32", _) => " (sqrt: vsqrt.f32)",
+            _ => "",
+        };
+        let overflow_note = if self.overflowed {
+            " (or more: the paint is gone)"
+        } else {
+            ""
+        };
+        let (w, h) = (self.width as u64, self.height as u64);
+        c.text("board ")
+            .text(self.board)
+            .text(" (")
+            .text(self.core)
+            .text("), ")
+            .text(self.number)
+            .text(f32_note);
+        c.text(", scene ")
+            .text(self.scene_name)
+            .text(" (")
+            .text(self.scene_form)
+            .text("), ");
+        c.num(w)
+            .text("x")
+            .num(h)
+            .text(", ")
+            .num(self.rays as u64)
+            .text(" rays per pixel\n");
+        c.text("set-up: ").num(self.setup).text(" instructions\n");
+        c.text("frame: ")
+            .num(self.frame)
+            .text(" instructions, ")
+            .num(per_pixel)
+            .text(" instructions per pixel\n");
+        c.text("memory: flash ")
+            .num(self.flash)
+            .text(" bytes, static RAM ")
+            .num(self.static_ram);
+        c.text(" bytes, peak stack ")
+            .num(self.peak_stack)
+            .text(" bytes")
+            .text(overflow_note)
+            .text(", RAM ")
+            .num(self.ram)
+            .text(" bytes\n");
+        c.text("report board=")
+            .text(self.board)
+            .text(" number=")
+            .text(self.number)
+            .text(" f32_sqrt=")
+            .text(self.sqrt);
+        c.text(" width=")
+            .num(w)
+            .text(" height=")
+            .num(h)
+            .text(" rays=")
+            .num(self.rays as u64);
+        c.text(" scene_form=")
+            .text(self.scene_form)
+            .text(" setup=")
+            .num(self.setup)
+            .text(" frame=")
+            .num(self.frame);
+        c.text(" per_pixel=")
+            .num(per_pixel)
+            .text(" flash=")
+            .num(self.flash)
+            .text(" static_ram=")
+            .num(self.static_ram);
+        c.text(" peak_stack=")
+            .num(self.peak_stack)
+            .text(" stack_overflow=")
+            .num(self.overflowed as u64)
+            .text(" ram=")
+            .num(self.ram);
+        c.text(" calibration=").num(self.calibration).write_all(b"\n")
+    }
+}
+
+/// `n / d` for `d > 0`, bit by bit: the runtime's `u64 / u64` is a kilobyte
+/// of the Cortex-M0's flash, for one division in the report.
+fn div_u64(n: u64, d: u64) -> u64 {
+    let (mut n, mut q, mut r) = (n, 0u64, 0u64);
+    // Shifts by one only (a variable u64 shift is a call on the M0).
+    for _ in 0..64 {
+        // r < d before the shift: no bit is lost while d < 2^63.
+        r = (r << 1) | (n >> 63);
+        n <<= 1;
+        q <<= 1;
+        if r >= d {
+            r -= d;
+            q |= 1;
+        }
+    }
+    q
+}
