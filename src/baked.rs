@@ -117,8 +117,9 @@ fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
 
 /// Bytes [`bake`] writes for this renderer.
 pub fn baked_len<S: BakeScalar>(renderer: &Renderer<'_, S>) -> usize {
-    let mut w = Writer { out: None, pos: 0 };
+    let mut w = Writer::new(None);
     put_renderer(renderer, &mut w);
+    w.flush();
     HEADER_LEN + w.pos + TRAILER_LEN
 }
 
@@ -135,16 +136,15 @@ pub fn bake<S: BakeScalar>(renderer: &Renderer<'_, S>, out: &mut [u8]) -> Result
         return Err(BakeError::BufferTooSmall { needed });
     }
     let payload = needed - HEADER_LEN - TRAILER_LEN;
-    let mut w = Writer {
-        out: Some(&mut out[..needed]),
-        pos: 0,
-    };
-    w.bytes(&MAGIC);
-    FORMAT_VERSION.put(&mut w);
-    S::TAG.put(&mut w);
-    0u8.put(&mut w);
-    (payload as u32).put(&mut w);
+    let (header, rest) = out.split_at_mut(HEADER_LEN);
+    header[..4].copy_from_slice(&MAGIC);
+    header[4..6].copy_from_slice(&FORMAT_VERSION.to_le_bytes());
+    header[6] = S::TAG;
+    header[7] = 0;
+    header[8..].copy_from_slice(&(payload as u32).to_le_bytes());
+    let mut w = Writer::new(Some(&mut rest[..payload]));
     put_renderer(renderer, &mut w);
+    w.flush();
     let crc = crc32(&out[..needed - TRAILER_LEN]);
     out[needed - TRAILER_LEN..needed].copy_from_slice(&crc.to_le_bytes());
     Ok(needed)
@@ -268,17 +268,15 @@ impl<S: BakeScalar> Baked<S> {
         if crc32(body) != u32::from_le_bytes([crc[0], crc[1], crc[2], crc[3]]) {
             return Err(BakeError::Checksum);
         }
-        let mut r = Reader {
-            bytes: &body[HEADER_LEN..],
-        };
-        self.take_payload(&mut r)?;
-        if !r.bytes.is_empty() {
-            return Err(BakeError::Payload);
+        let mut r = Reader::new(&body[HEADER_LEN..]);
+        self.take_payload(&mut r);
+        if r.ok() && !r.at_end() {
+            r.fail(BakeError::Payload);
         }
-        Ok(())
+        r.error.map_or(Ok(()), Err)
     }
 
-    fn take_payload(&mut self, r: &mut Reader<'_>) -> Result<(), BakeError> {
+    fn take_payload(&mut self, r: &mut Reader<'_>) {
         let Scene {
             camera: _,
             ambient,
@@ -287,37 +285,39 @@ impl<S: BakeScalar> Baked<S> {
             objects,
             lights,
         } = &mut self.scene;
-        ambient.take(r)?;
-        background.take(r)?;
-        shadows.take(r)?;
-        objects.take(r)?;
-        lights.take(r)?;
-        self.camera.take(r)?;
-        self.cones.take(r)?;
-        self.samples.take(r)?;
-        self.adaptive.take(r)?;
-        self.sampler.take(r)?;
-        self.bright.take(r)?;
-        self.defocus.take(r)?;
-        self.cap.take(r)?;
-        self.survey_rays.take(r)?;
-        self.spread.take(r)?;
+        ambient.take(r);
+        background.take(r);
+        shadows.take(r);
+        objects.take(r);
+        lights.take(r);
+        self.camera.take(r);
+        self.cones.take(r);
+        self.samples.take(r);
+        self.adaptive.take(r);
+        self.sampler.take(r);
+        self.bright.take(r);
+        self.defocus.take(r);
+        self.cap.take(r);
+        self.survey_rays.take(r);
+        self.spread.take(r);
+        if !r.ok() {
+            return;
+        }
         // One cone per object: the cull looks an object's cone up by its index.
         if self.cones.len() != self.scene.objects.len() {
-            return Err(BakeError::OutOfRange("lens cones do not match the objects"));
+            return r.out_of_range("lens cones do not match the objects");
         }
         if !(1..=65535).contains(&self.samples) {
-            return Err(BakeError::OutOfRange("samples per pixel not in 1..=65535"));
+            return r.out_of_range("samples per pixel not in 1..=65535");
         }
         let (cols, rows) = (self.camera.cols(), self.camera.rows());
         if !(1..=MAX_IMAGE_SIDE).contains(&cols) || !(1..=MAX_IMAGE_SIDE).contains(&rows) {
-            return Err(BakeError::OutOfRange("image side not in 1..=8192"));
+            return r.out_of_range("image side not in 1..=8192");
         }
         // The statements the renderer still reads from the scene's camera.
         self.scene.camera.samples = self.samples;
         self.scene.camera.adaptive = self.adaptive;
         self.scene.camera.sampler = self.sampler;
-        Ok(())
     }
 
     /// The renderer the bytes were baked from: the same pixels.

@@ -9,7 +9,7 @@ use fixed::types::I16F16;
 /// The first four bytes of every baked scene.
 pub const MAGIC: [u8; 4] = *b"LRBK";
 /// The format this library writes and reads. Bump it when any baked struct changes.
-pub const FORMAT_VERSION: u16 = 4;
+pub const FORMAT_VERSION: u16 = 5;
 /// Bytes before the payload: magic, version, number type, reserved, length.
 pub const HEADER_LEN: usize = 12;
 /// Bytes after the payload: the CRC-32.
@@ -127,33 +127,131 @@ pub fn crc32(bytes: &[u8]) -> u32 {
     !c
 }
 
-/// Where baked bytes go: a buffer, or nowhere (counting only).
+/// Where baked bytes go: a buffer, or nowhere (counting only). Runs of
+/// zero bytes are written as `0, n` (n = 1..=255 zeros): most of a baked
+/// scene is the zero high bytes of small numbers.
 pub struct Writer<'a> {
     pub(crate) out: Option<&'a mut [u8]>,
     pub(crate) pos: usize,
+    /// Zeros not yet written (below 255).
+    pub(crate) zeros: u8,
 }
 
-impl Writer<'_> {
+impl<'a> Writer<'a> {
+    /// A writer into `out`, or counting only.
+    pub(crate) fn new(out: Option<&'a mut [u8]>) -> Self {
+        Writer { out, pos: 0, zeros: 0 }
+    }
+
     pub(crate) fn bytes(&mut self, b: &[u8]) {
-        if let Some(out) = self.out.as_deref_mut() {
-            if let Some(dst) = out.get_mut(self.pos..self.pos + b.len()) {
-                dst.copy_from_slice(b);
+        for &x in b {
+            if x == 0 {
+                self.zeros += 1;
+                if self.zeros == u8::MAX {
+                    self.flush();
+                }
+            } else {
+                self.flush();
+                self.raw(x);
             }
         }
-        self.pos += b.len();
+    }
+
+    /// Writes the pending zero run; call once after the last value.
+    pub(crate) fn flush(&mut self) {
+        if self.zeros > 0 {
+            self.raw(0);
+            self.raw(self.zeros);
+            self.zeros = 0;
+        }
+    }
+
+    fn raw(&mut self, x: u8) {
+        if let Some(dst) = self.out.as_deref_mut().and_then(|o| o.get_mut(self.pos)) {
+            *dst = x;
+        }
+        self.pos += 1;
     }
 }
 
-/// Baked bytes being read.
+/// Baked bytes being read. A missing byte or a bad value is recorded (the
+/// first one wins) and reading goes on with zeros, so that reading a field
+/// is straight-line code, without a branch on an error after every value;
+/// nothing read after an error is used.
 pub struct Reader<'a> {
     pub(crate) bytes: &'a [u8],
+    /// Zeros of the current run still to read.
+    pub(crate) zeros: u8,
+    pub(crate) error: Option<BakeError>,
 }
 
-impl Reader<'_> {
-    pub(crate) fn array<const N: usize>(&mut self) -> Result<[u8; N], BakeError> {
-        let (head, rest) = self.bytes.split_first_chunk::<N>().ok_or(BakeError::Payload)?;
-        self.bytes = rest;
-        Ok(*head)
+impl<'a> Reader<'a> {
+    /// A reader of a payload.
+    pub(crate) fn new(bytes: &'a [u8]) -> Self {
+        Reader {
+            bytes,
+            zeros: 0,
+            error: None,
+        }
+    }
+
+    /// Whether nothing has gone wrong so far.
+    pub fn ok(&self) -> bool {
+        self.error.is_none()
+    }
+
+    /// Records `e` unless an earlier error is recorded.
+    #[inline(never)]
+    pub fn fail(&mut self, e: BakeError) {
+        if self.error.is_none() {
+            self.error = Some(e);
+        }
+    }
+
+    /// Records a value out of range, named by `what`.
+    pub fn out_of_range(&mut self, what: &'static str) {
+        self.fail(BakeError::OutOfRange(what));
+    }
+
+    /// Whether every byte was read (no zero run left either).
+    pub(crate) fn at_end(&self) -> bool {
+        self.bytes.is_empty() && self.zeros == 0
+    }
+
+    /// The next byte, expanding zero runs; 0 past the end (recorded).
+    #[inline(always)]
+    fn byte(&mut self) -> u8 {
+        if self.zeros > 0 {
+            self.zeros -= 1;
+            return 0;
+        }
+        match *self.bytes {
+            [0, n, ref rest @ ..] if n > 0 => {
+                self.zeros = n - 1;
+                self.bytes = rest;
+                0
+            }
+            [x, ref rest @ ..] if x != 0 => {
+                self.bytes = rest;
+                x
+            }
+            // The end, a run without its length, or a run of no zeros.
+            _ => {
+                self.fail(BakeError::Payload);
+                0
+            }
+        }
+    }
+
+    /// The next `n` (at most 4) bytes as a little-endian number.
+    // Once, called by every value: the loader's flash on a microcontroller.
+    #[inline(never)]
+    pub(crate) fn le(&mut self, n: u32) -> u32 {
+        let mut v = 0;
+        for i in 0..n.min(4) {
+            v |= (self.byte() as u32) << (8 * i);
+        }
+        v
     }
 }
 
@@ -162,8 +260,9 @@ impl Reader<'_> {
 pub trait Field {
     /// Appends the value's bytes.
     fn put(&self, w: &mut Writer<'_>);
-    /// Reads the value over `self`, checking its range.
-    fn take(&mut self, r: &mut Reader<'_>) -> Result<(), BakeError>;
+    /// Reads the value over `self`, checking its range; a failure is
+    /// recorded in `r` ([`Reader::fail`]), and what follows is read anyway.
+    fn take(&mut self, r: &mut Reader<'_>);
     /// A placeholder value, before reading.
     fn blank() -> Self
     where
@@ -175,16 +274,27 @@ pub trait Field {
 /// (the destructuring patterns refuse a list that misses one).
 macro_rules! baked_fields {
     ($name:ident { $($field:ident),* $(,)? } $(, check($v:ident) $check:block)?) => {
+        #[inline]
         fn put(&self, w: &mut $crate::bytes::Writer<'_>) {
             let $name { $($field),* } = self;
             $( $crate::bytes::Field::put($field, w); )*
         }
-        fn take(&mut self, r: &mut $crate::bytes::Reader<'_>) -> Result<(), $crate::bytes::BakeError> {
+        #[inline]
+        fn take(&mut self, r: &mut $crate::bytes::Reader<'_>) {
             let $name { $($field),* } = self;
-            $( $crate::bytes::Field::take($field, r)?; )*
-            $( let $v = &*self; $check )?
-            #[allow(unreachable_code)]
-            Ok(())
+            $( $crate::bytes::Field::take($field, r); )*
+            // Checked only while all is well: a check may rely on the ones before it.
+            $( if r.ok() {
+                let $v = &*self;
+                let checked = (|| -> Result<(), $crate::bytes::BakeError> {
+                    $check
+                    #[allow(unreachable_code)]
+                    Ok(())
+                })();
+                if let Err(e) = checked {
+                    r.fail(e);
+                }
+            } )?
         }
         fn blank() -> Self {
             $name { $($field: $crate::bytes::Field::blank()),* }
@@ -194,14 +304,15 @@ macro_rules! baked_fields {
 pub(crate) use baked_fields;
 
 macro_rules! int_field {
-    ($($t:ty),*) => {$(
+    ($($t:ty: $n:literal),*) => {$(
         impl Field for $t {
             fn put(&self, w: &mut Writer<'_>) {
                 w.bytes(&self.to_le_bytes());
             }
-            fn take(&mut self, r: &mut Reader<'_>) -> Result<(), BakeError> {
-                *self = <$t>::from_le_bytes(r.array()?);
-                Ok(())
+            #[inline]
+            fn take(&mut self, r: &mut Reader<'_>) {
+                // Truncated to the type's width, sign included.
+                *self = r.le($n) as $t;
             }
             fn blank() -> Self {
                 0
@@ -209,19 +320,46 @@ macro_rules! int_field {
         }
     )*};
 }
-int_field!(u8, i16, u16, i32, u32, i64);
+int_field!(u8: 1, u16: 2, i32: 4, u32: 4);
+
+impl Field for i16 {
+    fn put(&self, w: &mut Writer<'_>) {
+        w.bytes(&self.to_le_bytes());
+    }
+    #[inline]
+    fn take(&mut self, r: &mut Reader<'_>) {
+        *self = r.le(2) as u16 as i16;
+    }
+    fn blank() -> Self {
+        0
+    }
+}
+
+impl Field for i64 {
+    fn put(&self, w: &mut Writer<'_>) {
+        w.bytes(&self.to_le_bytes());
+    }
+    #[inline]
+    fn take(&mut self, r: &mut Reader<'_>) {
+        let lo = r.le(4) as u64;
+        *self = (lo | (r.le(4) as u64) << 32) as i64;
+    }
+    fn blank() -> Self {
+        0
+    }
+}
 
 impl Field for bool {
     fn put(&self, w: &mut Writer<'_>) {
         w.bytes(&[*self as u8]);
     }
-    fn take(&mut self, r: &mut Reader<'_>) -> Result<(), BakeError> {
-        *self = match r.array::<1>()?[0] {
-            0 => false,
-            1 => true,
-            _ => return Err(BakeError::OutOfRange("a flag is neither 0 nor 1")),
-        };
-        Ok(())
+    #[inline]
+    fn take(&mut self, r: &mut Reader<'_>) {
+        let b = r.le(1);
+        if b > 1 {
+            r.out_of_range("a flag is neither 0 nor 1");
+        }
+        *self = b == 1;
     }
     fn blank() -> Self {
         false
@@ -232,9 +370,9 @@ impl Field for I16F16 {
     fn put(&self, w: &mut Writer<'_>) {
         self.to_bits().put(w);
     }
-    fn take(&mut self, r: &mut Reader<'_>) -> Result<(), BakeError> {
-        *self = I16F16::from_bits(i32::from_le_bytes(r.array()?));
-        Ok(())
+    #[inline]
+    fn take(&mut self, r: &mut Reader<'_>) {
+        *self = I16F16::from_bits(r.le(4) as i32);
     }
     fn blank() -> Self {
         I16F16::ZERO
@@ -245,13 +383,13 @@ impl Field for f32 {
     fn put(&self, w: &mut Writer<'_>) {
         self.to_bits().put(w);
     }
-    fn take(&mut self, r: &mut Reader<'_>) -> Result<(), BakeError> {
-        *self = f32::from_bits(u32::from_le_bytes(r.array()?));
+    #[inline]
+    fn take(&mut self, r: &mut Reader<'_>) {
+        *self = f32::from_bits(r.le(4));
         // Infinities and NaNs would paint a picture the host never made.
         if !self.is_finite() {
-            return Err(BakeError::OutOfRange("an f32 is not finite"));
+            r.out_of_range("an f32 is not finite");
         }
-        Ok(())
     }
     fn blank() -> Self {
         0.0
@@ -262,8 +400,8 @@ impl<T: Field, const N: usize> Field for [T; N] {
     fn put(&self, w: &mut Writer<'_>) {
         self.iter().for_each(|x| x.put(w));
     }
-    fn take(&mut self, r: &mut Reader<'_>) -> Result<(), BakeError> {
-        self.iter_mut().try_for_each(|x| x.take(r))
+    fn take(&mut self, r: &mut Reader<'_>) {
+        self.iter_mut().for_each(|x| x.take(r))
     }
     fn blank() -> Self {
         core::array::from_fn(|_| T::blank())
@@ -275,8 +413,8 @@ impl<A: Field, B: Field> Field for (A, B) {
         self.0.put(w);
         self.1.put(w);
     }
-    fn take(&mut self, r: &mut Reader<'_>) -> Result<(), BakeError> {
-        self.0.take(r)?;
+    fn take(&mut self, r: &mut Reader<'_>) {
+        self.0.take(r);
         self.1.take(r)
     }
     fn blank() -> Self {
@@ -291,12 +429,12 @@ impl<T: Field> Field for Option<T> {
             x.put(w);
         }
     }
-    fn take(&mut self, r: &mut Reader<'_>) -> Result<(), BakeError> {
+    fn take(&mut self, r: &mut Reader<'_>) {
         let mut some = false;
-        some.take(r)?;
+        some.take(r);
         if !some {
             *self = None;
-            return Ok(());
+            return;
         }
         self.get_or_insert_with(T::blank).take(r)
     }
@@ -310,21 +448,23 @@ impl<T: Field, const N: usize> Field for heapless::Vec<T, N> {
         (self.len() as u16).put(w);
         self.iter().for_each(|x| x.put(w));
     }
-    fn take(&mut self, r: &mut Reader<'_>) -> Result<(), BakeError> {
+    fn take(&mut self, r: &mut Reader<'_>) {
         let mut n = 0u16;
-        n.take(r)?;
+        n.take(r);
         if n as usize > N {
-            return Err(BakeError::OutOfRange("more items than the scene's capacity"));
+            r.out_of_range("more items than the scene's capacity");
         }
         self.clear();
-        for _ in 0..n {
+        // Not past the first error: no item is read from nonsense.
+        while r.ok() && self.len() < n as usize {
             // Pushed blank, then read where it lies: no second copy on the stack.
-            let _ = self.push(T::blank());
+            if self.push(T::blank()).is_err() {
+                break;
+            }
             if let Some(x) = self.last_mut() {
-                x.take(r)?;
+                x.take(r);
             }
         }
-        Ok(())
     }
     fn blank() -> Self {
         heapless::Vec::new()

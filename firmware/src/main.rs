@@ -49,16 +49,6 @@ const ROWS_FILE: &str = "lensray-rows.rgb";
 const ROW_BYTES: usize = WIDTH as usize * 3;
 /// How the f32 renderer takes square roots, for the report.
 const SQRT: &str = if cfg!(feature = "hw-sqrt") { "vsqrt.f32" } else { "libm" };
-/// The core, for the report.
-const CORE: &str = if cfg!(feature = "microbit") {
-    "Cortex-M0"
-} else if cfg!(feature = "mps2-an385") {
-    "Cortex-M3"
-} else if cfg!(feature = "sifive-e") {
-    "RV32IMAC"
-} else {
-    "Cortex-M4F"
-};
 /// How the scene reached the renderer, for the report.
 const SCENE_FORM: &str = if cfg!(feature = "parse-on-device") {
     "parsed"
@@ -202,10 +192,8 @@ fn report(paint: &stack_paint::Paint, console: &mut HostFile, rays: u32, ticks: 
     let [t0, t1, t2, t3] = ticks;
     let report = Report {
         board: BOARD,
-        core: CORE,
         number: Number::NAME,
         sqrt: SQRT,
-        scene_name: SCENE_NAME,
         scene_form: SCENE_FORM,
         width: WIDTH,
         height: HEIGHT,

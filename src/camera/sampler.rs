@@ -142,15 +142,18 @@ impl crate::bytes::Field for Sampler {
     fn put(&self, w: &mut crate::bytes::Writer<'_>) {
         crate::bytes::Field::put(&(*self as u8), w);
     }
-    fn take(&mut self, r: &mut crate::bytes::Reader<'_>) -> Result<(), crate::bytes::BakeError> {
+    #[inline]
+    fn take(&mut self, r: &mut crate::bytes::Reader<'_>) {
         let mut tag = 0u8;
-        crate::bytes::Field::take(&mut tag, r)?;
+        crate::bytes::Field::take(&mut tag, r);
         *self = match tag {
             0 => Sampler::Independent,
             1 => Sampler::Stratified,
-            _ => return Err(crate::bytes::BakeError::OutOfRange("unknown lens sampler")),
+            _ => {
+                r.out_of_range("unknown lens sampler");
+                Sampler::Independent
+            }
         };
-        Ok(())
     }
     fn blank() -> Self {
         Sampler::default()

@@ -383,16 +383,19 @@ impl crate::bytes::Field for Shape {
         };
         tag.put(w);
     }
-    fn take(&mut self, r: &mut crate::bytes::Reader<'_>) -> Result<(), crate::bytes::BakeError> {
-        *self = match r.array::<1>()?[0] {
+    #[inline]
+    fn take(&mut self, r: &mut crate::bytes::Reader<'_>) {
+        *self = match r.le(1) {
             0 => Shape::Sphere,
             1 => Shape::Plane,
             2 => Shape::Cube,
             3 => Shape::Cylinder,
             4 => Shape::Cone,
-            _ => return Err(crate::bytes::BakeError::OutOfRange("unknown shape")),
+            _ => {
+                r.out_of_range("unknown shape");
+                Shape::Sphere
+            }
         };
-        Ok(())
     }
     fn blank() -> Self {
         Shape::Sphere

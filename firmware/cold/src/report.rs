@@ -1,17 +1,15 @@
-//! The firmware's closing report: three lines for people and one
-//! `report key=value ...` line for the host, written without `core::fmt`.
+//! The firmware's closing report: one `report key=value ...` line, written
+//! without `core::fmt` (the host's `lensray emulate` puts it in words).
 
 use crate::semihosting::{HostFile, IoError};
 
 /// What a run measured, and what it ran.
 pub struct Report<'a> {
     pub board: &'a str,
-    pub core: &'a str,
     /// The number type's name (`Q16.16` or `f32`).
     pub number: &'a str,
     /// How f32 square roots are taken (`libm` or `vsqrt.f32`).
     pub sqrt: &'a str,
-    pub scene_name: &'a str,
     /// `baked` or `parsed`.
     pub scene_form: &'a str,
     pub width: u32,
@@ -41,52 +39,7 @@ impl Report<'_> {
     /// Writes the report to `c`.
     pub fn write(&self, c: &mut HostFile) -> Result<(), IoError> {
         let per_pixel = self.per_pixel();
-        let f32_note = match (self.number, self.sqrt) {
-            ("f32", "libm") => " (sqrt: libm)",
-            ("f32", _) => " (sqrt: vsqrt.f32)",
-            _ => "",
-        };
-        let overflow_note = if self.overflowed {
-            " (or more: the paint is gone)"
-        } else {
-            ""
-        };
         let (w, h) = (self.width as u64, self.height as u64);
-        c.text("board ")
-            .text(self.board)
-            .text(" (")
-            .text(self.core)
-            .text("), ")
-            .text(self.number)
-            .text(f32_note);
-        c.text(", scene ")
-            .text(self.scene_name)
-            .text(" (")
-            .text(self.scene_form)
-            .text("), ");
-        c.num(w)
-            .text("x")
-            .num(h)
-            .text(", ")
-            .num(self.rays as u64)
-            .text(" rays per pixel\n");
-        c.text("set-up: ").num(self.setup).text(" instructions\n");
-        c.text("frame: ")
-            .num(self.frame)
-            .text(" instructions, ")
-            .num(per_pixel)
-            .text(" instructions per pixel\n");
-        c.text("memory: flash ")
-            .num(self.flash)
-            .text(" bytes, static RAM ")
-            .num(self.static_ram);
-        c.text(" bytes, peak stack ")
-            .num(self.peak_stack)
-            .text(" bytes")
-            .text(overflow_note)
-            .text(", RAM ")
-            .num(self.ram)
-            .text(" bytes\n");
         c.text("report board=")
             .text(self.board)
             .text(" number=")

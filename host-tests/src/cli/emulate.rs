@@ -28,6 +28,8 @@ use crate::Fail;
 /// program and machine arguments. A new board is one more entry in [`BOARDS`].
 struct Board {
     name: &'static str,
+    /// The core, for the report in words.
+    core: &'static str,
     target: &'static str,
     features: &'static str,
     qemu_program: &'static str,
@@ -37,6 +39,7 @@ struct Board {
 const BOARDS: [Board; 4] = [
     Board {
         name: "microbit",
+        core: "Cortex-M0",
         target: "thumbv6m-none-eabi",
         features: "microbit",
         qemu_program: "qemu-system-arm",
@@ -44,6 +47,7 @@ const BOARDS: [Board; 4] = [
     },
     Board {
         name: "mps2-an385",
+        core: "Cortex-M3",
         target: "thumbv7m-none-eabi",
         features: "mps2-an385",
         qemu_program: "qemu-system-arm",
@@ -51,6 +55,7 @@ const BOARDS: [Board; 4] = [
     },
     Board {
         name: "mps2-an386",
+        core: "Cortex-M4F",
         target: "thumbv7em-none-eabihf",
         features: "mps2-an386,hw-sqrt",
         qemu_program: "qemu-system-arm",
@@ -59,6 +64,7 @@ const BOARDS: [Board; 4] = [
     // 32-bit RISC-V without an FPU (SiFive FE310, rv32imac): the ESP32-C3 / CH32V class.
     Board {
         name: "sifive-e",
+        core: "RV32IMAC",
         target: "riscv32imac-unknown-none-elf",
         features: "sifive-e",
         qemu_program: "qemu-system-riscv32",
@@ -199,6 +205,8 @@ pub(crate) fn run(o: EmulateArgs) -> Result<(), Fail> {
         .map_err(|e| Fail(format!("the firmware's rows ({ROWS_FILE}) cannot be read: {e}")))?;
     let img = image_from_rows(&rows, width, height)?;
 
+    let scene_name = scene_path.file_name().unwrap_or_default().to_string_lossy();
+    print!("{}", describe(board, &scene_name, &report)?);
     for line in output.lines() {
         println!("{line}");
     }
@@ -440,6 +448,43 @@ fn parse_report(output: &str) -> Option<BTreeMap<String, String>> {
             .map(|(k, v)| (k.to_string(), v.to_string()))
             .collect(),
     )
+}
+
+/// The report in words (the firmware writes only its `report` line: the
+/// micro:bit's flash is dearer than the host's).
+fn describe(board: &Board, scene_name: &str, r: &BTreeMap<String, String>) -> Result<String, Fail> {
+    let text = |key: &str| r.get(key).map(String::as_str).unwrap_or("?");
+    let num = |key: &str| report_value::<u64>(r, key);
+    let number = text("number");
+    let sqrt = if number == "f32" {
+        format!(" (sqrt: {})", text("f32_sqrt"))
+    } else {
+        String::new()
+    };
+    let overflow = if num("stack_overflow")? != 0 {
+        " (or more: the paint is gone)"
+    } else {
+        ""
+    };
+    Ok(format!(
+        "board {} ({}), {number}{sqrt}, scene {scene_name} ({}), {}x{}, {} rays per pixel\n\
+         set-up: {} instructions\n\
+         frame: {} instructions, {} instructions per pixel\n\
+         memory: flash {} bytes, static RAM {} bytes, peak stack {} bytes{overflow}, RAM {} bytes\n",
+        board.name,
+        board.core,
+        text("scene_form"),
+        num("width")?,
+        num("height")?,
+        num("rays")?,
+        num("setup")?,
+        num("frame")?,
+        num("per_pixel")?,
+        num("flash")?,
+        num("static_ram")?,
+        num("peak_stack")?,
+        num("ram")?,
+    ))
 }
 
 fn report_value<T: std::str::FromStr>(report: &BTreeMap<String, String>, key: &str) -> Result<T, Fail> {
