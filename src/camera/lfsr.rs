@@ -18,16 +18,17 @@
 /// (maximal: period 2³² − 1).
 pub const TAPS: u32 = 0x8020_0003;
 
-/// Eight clocks of the register started at each byte value: the register is
-/// linear and its upper bits only shift for eight clocks, so eight clocks of
-/// any state are `(state >> 8) ^ BYTE_CLOCKS[state & 0xFF]` (the CRC table trick).
-const BYTE_CLOCKS: [u32; 256] = {
-    let mut t = [0u32; 256];
+/// Four clocks of the register started at each nibble value: the register is
+/// linear and its upper bits only shift for four clocks, so four clocks of
+/// any state are `(state >> 4) ^ NIBBLE_CLOCKS[state & 0xF]` (the CRC table
+/// trick; 64 bytes where a byte's table took a kilobyte of the M0's flash).
+const NIBBLE_CLOCKS: [u32; 16] = {
+    let mut t = [0u32; 16];
     let mut v = 0;
-    while v < 256 {
+    while v < 16 {
         let mut s = v as u32;
         let mut k = 0;
-        while k < 8 {
+        while k < 4 {
             let lsb = s & 1;
             s >>= 1;
             s ^= lsb.wrapping_neg() & TAPS;
@@ -85,14 +86,17 @@ impl Lfsr {
     /// Clocks the register eight times, by table.
     #[inline]
     pub fn step8(&mut self) -> u32 {
-        self.state = (self.state >> 8) ^ BYTE_CLOCKS[(self.state & 0xFF) as usize];
+        for _ in 0..2 {
+            self.state = (self.state >> 4) ^ NIBBLE_CLOCKS[(self.state & 0xF) as usize];
+        }
         self.state
     }
 
     /// 16 fresh bits: clocks 32 times so the draw shares no bit with the last one.
-    #[inline]
+    // Once: its eight table steps inlined at each draw took 450 bytes of the M0's flash.
+    #[inline(never)]
     pub fn next_u16(&mut self) -> u16 {
-        // Four table steps of eight clocks each: a tenth of the instructions of
+        // Four table steps of eight clocks each: about a quarter of the instructions of
         // 32 single clocks on a Cortex-M0, the same states.
         for _ in 0..4 {
             self.step8();

@@ -57,6 +57,8 @@ impl FixedFilmMap {
     /// Whether every direction of a `cols` × `rows` image, lens terms
     /// included, stays below 2^31 at scale 2^-s, as [`FixedFilmMap::new`]
     /// makes it (checked on a baked map, whose size comes with it).
+    // Compiled where it is used: a firmware's loader compiles it for size.
+    #[inline]
     pub(crate) fn fits(&self, cols: u32, rows: u32) -> bool {
         let (i_max, j_max) = (2 * cols as i64 - 1, 2 * rows as i64 - 1);
         (0..3).all(|k| {

@@ -524,6 +524,7 @@ impl BakeScalar for I16F16 {
     const TAG: u8 = 0;
     type BakedRow = FixedRow;
     type BakedFilmMap = crate::number::film::FixedFilmMap;
+    #[inline]
     fn film_map_fits(map: &Self::BakedFilmMap, cols: u32, rows: u32) -> bool {
         map.fits(cols, rows)
     }

@@ -26,7 +26,8 @@ impl crate::bytes::Field for FixedRow {
 impl FixedRow {
     /// `row · v` (plus the translation when `affine`), rounded to Q16.16:
     /// `Kernels::row_apply` for [`I16F16`], which the plane also calls.
-    #[inline]
+    // Not `#[inline]` on the M0: each crate calling it compiled a copy of its own.
+    #[cfg_attr(not(lensray_v6m), inline)]
     pub(crate) fn apply(&self, v: [I16F16; 3], affine: bool) -> I16F16 {
         let s = self.exact(v, affine);
         let q = if self.shift == 0 { s } else { shr_round(s, self.shift) };

@@ -163,6 +163,7 @@ impl HostFile {
     }
 
     /// Writes `n` as `0x` and eight hex digits.
+    #[inline(never)]
     pub fn hex(&mut self, n: u32) -> &mut HostFile {
         let mut buf = *b"0x00000000";
         for (k, b) in buf[2..].iter_mut().enumerate() {
