@@ -146,6 +146,17 @@ fn main() {
     } else {
         bake::<lensray::I16F16>(&bytes, width, height, samples)
     };
+    // The report's fixed part, one string: the Cortex-M0's flash.
+    let sqrt = if env::var_os("CARGO_FEATURE_HW_SQRT").is_some() {
+        "vsqrt.f32"
+    } else {
+        "libm"
+    };
+    let report_head = format!(
+        "report board={board} number={} f32_sqrt={sqrt} width={width} height={height} scene_form={}",
+        if float { "f32" } else { "Q16.16" },
+        if parse_on_device { "parsed" } else { "baked" },
+    );
     fs::write(out.join("scene.bin"), &embedded).unwrap_or_else(|e| fail(&format!("cannot write the scene: {e}")));
     let config = format!(
         "/// The board's name.\n\
@@ -163,7 +174,9 @@ fn main() {
          /// The number type of the renderer.\n\
          pub type Number = {number};\n\
          /// A failure on purpose, for the tests: \"\", \"panic\" or \"hardfault\".\n\
-         pub const FAULT: &str = {fault:?};\n",
+         pub const FAULT: &str = {fault:?};\n\
+         /// The report line's start: board, number type, square root, size, scene form.\n\
+         pub const REPORT_HEAD: &str = {report_head:?};\n",
         scene_txt = out.join("scene.bin").display().to_string(),
         number = if float { "f32" } else { "lensray::I16F16" },
     );

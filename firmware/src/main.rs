@@ -28,9 +28,11 @@ mod stack_paint;
 use core::fmt::Write;
 #[cfg(target_arch = "arm")]
 use cortex_m_rt::{entry, exception, ExceptionFrame};
+#[cfg(feature = "profile")]
+use lensray::Scalar;
 #[cfg(feature = "parse-on-device")]
 use lensray::Scene;
-use lensray::{render_with, Renderer, Scalar};
+use lensray::{render_with, Renderer};
 use lensray_firmware_cold::report::Report;
 use lensray_firmware_cold::semihosting::{self, exit, HostFile};
 use row_file::RowFile;
@@ -47,15 +49,6 @@ use config::*;
 const ROWS_FILE: &str = "lensray-rows.rgb";
 /// Bytes of one row: 3 per pixel.
 const ROW_BYTES: usize = WIDTH as usize * 3;
-/// How the f32 renderer takes square roots, for the report.
-const SQRT: &str = if cfg!(feature = "hw-sqrt") { "vsqrt.f32" } else { "libm" };
-/// How the scene reached the renderer, for the report.
-const SCENE_FORM: &str = if cfg!(feature = "parse-on-device") {
-    "parsed"
-} else {
-    "baked"
-};
-
 /// The scene, ready to render: parsed on the device from its text.
 #[cfg(feature = "parse-on-device")]
 type Loaded = Scene<Number>;
@@ -191,10 +184,7 @@ fn main() -> ! {
 fn report(paint: &stack_paint::Paint, console: &mut HostFile, rays: u32, ticks: [u64; 4], calibration: u64) -> ! {
     let [t0, t1, t2, t3] = ticks;
     let report = Report {
-        board: BOARD,
-        number: Number::NAME,
-        sqrt: SQRT,
-        scene_form: SCENE_FORM,
+        head: REPORT_HEAD,
         width: WIDTH,
         height: HEIGHT,
         rays,

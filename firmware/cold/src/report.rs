@@ -5,13 +5,10 @@ use crate::semihosting::{HostFile, IoError};
 
 /// What a run measured, and what it ran.
 pub struct Report<'a> {
-    pub board: &'a str,
-    /// The number type's name (`Q16.16` or `f32`).
-    pub number: &'a str,
-    /// How f32 square roots are taken (`libm` or `vsqrt.f32`).
-    pub sqrt: &'a str,
-    /// `baked` or `parsed`.
-    pub scene_form: &'a str,
+    /// The line's fixed start, `report board=... scene_form=...`: board,
+    /// number type, f32 square root, width, height and scene form, set at
+    /// build time.
+    pub head: &'a str,
     pub width: u32,
     pub height: u32,
     pub rays: u32,
@@ -39,25 +36,8 @@ impl Report<'_> {
     /// Writes the report to `c`.
     pub fn write(&self, c: &mut HostFile) -> Result<(), IoError> {
         let per_pixel = self.per_pixel();
-        let (w, h) = (self.width as u64, self.height as u64);
-        c.text("report board=")
-            .text(self.board)
-            .text(" number=")
-            .text(self.number)
-            .text(" f32_sqrt=")
-            .text(self.sqrt);
-        c.text(" width=")
-            .num(w)
-            .text(" height=")
-            .num(h)
-            .text(" rays=")
-            .num(self.rays as u64);
-        c.text(" scene_form=")
-            .text(self.scene_form)
-            .text(" setup=")
-            .num(self.setup)
-            .text(" frame=")
-            .num(self.frame);
+        c.text(self.head).text(" rays=").num(self.rays as u64);
+        c.text(" setup=").num(self.setup).text(" frame=").num(self.frame);
         c.text(" per_pixel=")
             .num(per_pixel)
             .text(" flash=")
@@ -75,8 +55,8 @@ impl Report<'_> {
 }
 
 /// `n / d` for `d > 0`, bit by bit: the runtime's `u64 / u64` is a kilobyte
-/// of the Cortex-M0's flash, for one division in the report.
-fn div_u64(n: u64, d: u64) -> u64 {
+/// of the Cortex-M0's flash, for the report's few divisions.
+pub(crate) fn div_u64(n: u64, d: u64) -> u64 {
     let (mut n, mut q, mut r) = (n, 0u64, 0u64);
     // Shifts by one only (a variable u64 shift is a call on the M0).
     for _ in 0..64 {

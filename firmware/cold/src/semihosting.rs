@@ -141,24 +141,20 @@ impl HostFile {
     // Once, not at each of the report's call sites (opt-level 3 copied it).
     #[inline(never)]
     pub fn num(&mut self, n: u64) -> &mut HostFile {
-        // Digits by subtracting powers of ten from a table: a u64 division
-        // by 10 is about a kilobyte of multiply-high code on the Cortex-M0.
+        // Digits from the last, by the report's bit-by-bit division: the
+        // runtime's u64 division is a kilobyte of the Cortex-M0's flash.
         let mut buf = [0u8; 20];
-        let (mut n, mut len) = (n, 0);
-        for &p in &POWERS_OF_TEN {
-            let mut d = b'0';
-            while n >= p {
-                n -= p;
-                d += 1;
-            }
-            if d > b'0' || len > 0 || p == 1 {
-                if let Some(b) = buf.get_mut(len) {
-                    *b = d;
-                }
-                len += 1;
+        let (mut n, mut i) = (n, buf.len());
+        while i > 0 {
+            let q = crate::report::div_u64(n, 10);
+            i -= 1;
+            buf[i] = b'0' + (n - q * 10) as u8;
+            n = q;
+            if n == 0 {
+                break;
             }
         }
-        let _ = self.write_all(&buf[..len.min(20)]);
+        let _ = self.write_all(&buf[i..]);
         self
     }
 
@@ -180,14 +176,3 @@ impl fmt::Write for HostFile {
         self.write_all(s.as_bytes()).map_err(|_| fmt::Error)
     }
 }
-
-/// 10^19 down to 1: the place values of a u64's 20 digits.
-const POWERS_OF_TEN: [u64; 20] = {
-    let mut t = [1u64; 20];
-    let mut i = 19;
-    while i > 0 {
-        t[i - 1] = t[i] * 10;
-        i -= 1;
-    }
-    t
-};
