@@ -22,7 +22,6 @@ mod profile;
 #[cfg(target_arch = "riscv32")]
 mod riscv_start;
 mod row_file;
-mod stack_paint;
 
 #[cfg(feature = "parse-on-device")]
 use core::fmt::Write;
@@ -35,6 +34,7 @@ use lensray::Scene;
 use lensray::{render_with, Renderer};
 use lensray_firmware_cold::report::Report;
 use lensray_firmware_cold::semihosting::{self, exit, HostFile};
+use lensray_firmware_cold::stack_paint;
 use row_file::RowFile;
 
 /// Build-time settings written by build.rs: `BOARD`, `SCENE`, `SCENE_NAME`,

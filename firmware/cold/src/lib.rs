@@ -1,5 +1,5 @@
 //! The firmware's code that runs once per run: loading and checking the
-//! baked scene, the report, the semihosting calls. A crate of its own so
+//! baked scene, the report, the memory measures, the semihosting calls. A crate of its own so
 //! that the firmware's profile compiles it for size (`opt-level = "z"`)
 //! while the per-pixel code, instantiated in the firmware crate, stays at
 //! speed: per-crate opt-levels apply where generic code is instantiated, so
@@ -9,6 +9,7 @@
 
 pub mod report;
 pub mod semihosting;
+pub mod stack_paint;
 
 use lensray::baked::{BakeError, Baked};
 use lensray::{Renderer, I16F16};

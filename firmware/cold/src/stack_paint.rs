@@ -57,7 +57,12 @@ pub fn paint() -> Paint {
 #[inline(always)]
 fn stack_pointer() -> usize {
     #[cfg(target_arch = "arm")]
-    return cortex_m::register::msp::read() as usize;
+    {
+        let sp: usize;
+        // SAFETY: reads a register.
+        unsafe { core::arch::asm!("mov {0}, sp", out(reg) sp, options(nomem, nostack, preserves_flags)) };
+        sp
+    }
     #[cfg(target_arch = "riscv32")]
     {
         let sp: usize;
