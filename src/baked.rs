@@ -18,15 +18,18 @@
 //! | 2 | format version |
 //! | 1 | number type: 0 Q16.16, 1 f32 |
 //! | 1 | 0 (reserved) |
-//! | 4 | payload length n |
-//! | n | payload: the renderer's fields in declaration order (see below) |
+//! | 4 | payload length n (stored bytes) |
+//! | n | payload: the renderer's fields in declaration order (see below), zero runs compressed |
 //! | 4 | CRC-32 (IEEE 802.3, reflected, as zlib's) of all the bytes before it |
 //!
 //! The payload is each struct's fields in the order its `baked_fields!` list
 //! names them (next to each struct's definition): integers as themselves,
 //! Q16.16 as its 32 bits, `f32` as its bits, `bool` as one byte 0 or 1, an
 //! `Option` as a byte 0 or 1 then the value, a list as a `u16` count then the
-//! items, an enum as one byte. Adding a field to a baked struct is one change,
+//! items, an enum as one byte. Stored, each run of zero bytes (most of a
+//! scene: the high bytes of small numbers) is the byte 0 and its length
+//! (1 to 255); a 0 without a length, or with length 0, is a bad payload.
+//! Adding a field to a baked struct is one change,
 //! in its `baked_fields!` list (the compiler refuses a list that misses one),
 //! plus a bump of [`FORMAT_VERSION`].
 //!
@@ -37,8 +40,8 @@
 //! scene's capacity, enum tags, shifts and magnitudes the integer kernels
 //! need, finite `f32`s, one lens cone per object, image sides and sample
 //! counts the renderer accepts) and that nothing is left over. Any failure is
-//! a [`BakeError`]; a loaded scene renders without a panic and exactly as
-//! the renderer that was baked.
+//! a [`BakeError`] (the first one met, in that order); a loaded scene
+//! renders without a panic and exactly as the renderer that was baked.
 //!
 //! ```
 //! use lensray::{baked, I16F16, Renderer, Scene};

@@ -292,11 +292,10 @@ fn microbit_renders_bit_for_bit_in_16k_of_ram() {
     let ram = outcomes[0].get("static_ram") + outcomes[0].get("peak_stack");
     assert!(ram <= 8 * 1024, "Program 1 baked needs {ram} bytes of RAM");
     // Baked Program 1 (with its lens), .text + .rodata (the report's `flash`):
-    // 47,908 bytes met issue 15's 48 KiB floor before issue 12's exact recheck
-    // of close decisions (fix 10 in docs/accuracy.md) came in; 51,560 with it.
-    // Held there, no growth past 51 KiB: the 48 KiB floor is NOT met (README).
+    // issue 15's floor, 48 KiB (46.5 KB after the seventh round of the size
+    // work, BENCHMARKS.md).
     let flash = outcomes[0].get("flash");
-    assert!(flash <= 51 * 1024, "Program 1 baked needs {flash} bytes of flash");
+    assert!(flash <= 48 * 1024, "Program 1 baked needs {flash} bytes of flash");
     // Issue 15: Program 1's pinhole count no worse than before (6,889 instructions
     // a pixel); exact under -icount, so no wall clock is involved.
     let pinhole = outcomes[3].get("per_pixel");
