@@ -470,3 +470,79 @@ impl<T: Field, const N: usize> Field for heapless::Vec<T, N> {
         heapless::Vec::new()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The stored bytes of `values`, written as a baked payload is.
+    fn stored<T: Field>(values: &T) -> std::vec::Vec<u8> {
+        let mut count = Writer::new(None);
+        values.put(&mut count);
+        count.flush();
+        let mut out = std::vec![0u8; count.pos];
+        let mut w = Writer::new(Some(&mut out));
+        values.put(&mut w);
+        w.flush();
+        assert_eq!(w.pos, out.len());
+        out
+    }
+
+    fn read<T: Field>(bytes: &[u8]) -> (T, Option<BakeError>, bool) {
+        let mut r = Reader::new(bytes);
+        let mut v = T::blank();
+        v.take(&mut r);
+        let end = r.at_end();
+        (v, r.error, end)
+    }
+
+    #[test]
+    fn zero_runs_of_any_length_round_trip() {
+        // Runs from none to past two full runs of 255, between non-zero bytes.
+        for run in [0usize, 1, 2, 254, 255, 256, 509, 510, 511, 600] {
+            let mut v = [0u8; 700];
+            v[0] = 7;
+            v[run + 1] = 9;
+            let bytes = stored(&v);
+            // Each zero run costs two bytes per 255 zeros or part of them.
+            let runs = |n: usize| 2 * n.div_ceil(255);
+            assert_eq!(bytes.len(), 2 + runs(run) + runs(700 - run - 2), "run {run}");
+            let (back, error, end) = read::<[u8; 700]>(&bytes);
+            assert_eq!((back, error, end), (v, None, true), "run {run}");
+        }
+    }
+
+    #[test]
+    fn a_bad_zero_run_or_a_short_payload_is_a_payload_error() {
+        // A run of no zeros, a run without its length, nothing at all.
+        for bytes in [&[0u8, 0, 5, 5][..], &[5, 5, 5, 0], &[]] {
+            let (_, error, _) = read::<u32>(bytes);
+            assert_eq!(error, Some(BakeError::Payload), "{bytes:?}");
+        }
+        // A run longer than the value: the value reads, the rest is left over.
+        let (v, error, end) = read::<u16>(&[0, 3]);
+        assert_eq!((v, error, end), (0, None, false));
+    }
+
+    #[test]
+    fn the_first_error_is_the_one_reported() {
+        // A flag of 2 (out of range), then a payload that ends early.
+        let (_, error, _) = read::<(bool, u32)>(&[2, 1]);
+        assert_eq!(error, Some(BakeError::OutOfRange("a flag is neither 0 nor 1")));
+        // The other way round: the payload ends inside the first value.
+        let (_, error, _) = read::<(u32, bool)>(&[1, 2]);
+        assert_eq!(error, Some(BakeError::Payload));
+    }
+
+    #[test]
+    fn a_list_longer_than_its_capacity_reads_no_item() {
+        let mut bytes = stored(&17u16);
+        bytes.extend_from_slice(&[1, 2, 3]);
+        let (v, error, _) = read::<heapless::Vec<u8, 16>>(&bytes);
+        assert!(v.is_empty());
+        assert_eq!(
+            error,
+            Some(BakeError::OutOfRange("more items than the scene's capacity"))
+        );
+    }
+}
