@@ -38,8 +38,8 @@ use lensray_firmware_cold::stack_paint;
 use row_file::RowFile;
 
 /// Build-time settings written by build.rs: `BOARD`, `SCENE`, `SCENE_NAME`,
-/// `WIDTH`, `HEIGHT`, `SAMPLES`, `Number`, `FAULT`.
-#[allow(dead_code)] // SAMPLES is baked in unless the scene is parsed on the device.
+/// `WIDTH`, `HEIGHT`, `SAMPLES`, `Number`, `FAULT`, `REPORT_HEAD`.
+#[allow(dead_code)] // SAMPLES is baked in unless the scene is parsed on the device; BOARD is the profile's.
 mod config {
     include!(concat!(env!("OUT_DIR"), "/config.rs"));
 }
