@@ -46,7 +46,7 @@ mod config {
 use config::*;
 
 /// The file on the host that receives the rows.
-const ROWS_FILE: &str = "lensray-rows.rgb";
+const ROWS_FILE: &core::ffi::CStr = c"lensray-rows.rgb";
 /// Bytes of one row: 3 per pixel.
 const ROW_BYTES: usize = WIDTH as usize * 3;
 /// The scene, ready to render: parsed on the device from its text.
@@ -161,7 +161,7 @@ fn main() -> ! {
     let mut rows = match RowFile::<ROW_BYTES>::create(ROWS_FILE, HEIGHT) {
         Ok(r) => r,
         Err(_) => {
-            console.text("cannot create ").text(ROWS_FILE).text(" on the host\n");
+            console.text("cannot create lensray-rows.rgb on the host\n");
             exit(1)
         }
     };

@@ -40,7 +40,7 @@ pub struct RowFile<const BYTES: usize> {
 const CHUNK: usize = 48;
 
 impl<const BYTES: usize> RowFile<BYTES> {
-    pub fn create(name: &str, height: u32) -> Result<Self, RowError> {
+    pub fn create(name: &core::ffi::CStr, height: u32) -> Result<Self, RowError> {
         Ok(RowFile {
             file: HostFile::create(name)?,
             chunk: [0; CHUNK],

@@ -2,6 +2,7 @@
 //! instructions): files on the host, a console, and an exit status. QEMU
 //! serves them with `-semihosting-config enable=on,target=native`.
 
+use core::ffi::CStr;
 use core::fmt;
 
 const SYS_OPEN: u32 = 0x01;
@@ -74,23 +75,18 @@ pub struct IoError;
 
 impl HostFile {
     /// Creates (or truncates) `name`, relative to the host's working directory.
-    pub fn create(name: &str) -> Result<HostFile, IoError> {
+    pub fn create(name: &CStr) -> Result<HostFile, IoError> {
         Self::open(name, MODE_WRITE_BINARY)
     }
 
     /// The host's console (its standard output under QEMU).
     pub fn console() -> Result<HostFile, IoError> {
-        Self::open(":tt", MODE_WRITE)
+        Self::open(c":tt", MODE_WRITE)
     }
 
-    fn open(name: &str, mode: u32) -> Result<HostFile, IoError> {
-        // SYS_OPEN wants a NUL-terminated name as well as its length.
-        let mut buf = [0u8; 64];
-        if name.len() >= buf.len() {
-            return Err(IoError);
-        }
-        buf[..name.len()].copy_from_slice(name.as_bytes());
-        let block = [buf.as_ptr() as u32, mode, name.len() as u32];
+    fn open(name: &CStr, mode: u32) -> Result<HostFile, IoError> {
+        // SYS_OPEN wants the NUL-terminated name and its length.
+        let block = [name.as_ptr() as u32, mode, name.to_bytes().len() as u32];
         // SAFETY: name pointer, mode and length, as SYS_OPEN expects.
         let handle = unsafe { call(SYS_OPEN, block.as_ptr() as usize) };
         if handle < 0 {
