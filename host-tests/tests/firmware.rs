@@ -292,8 +292,8 @@ fn microbit_renders_bit_for_bit_in_16k_of_ram() {
     let ram = outcomes[0].get("static_ram") + outcomes[0].get("peak_stack");
     assert!(ram <= 8 * 1024, "Program 1 baked needs {ram} bytes of RAM");
     // Baked Program 1 (with its lens), .text + .rodata (the report's `flash`):
-    // issue 15's floor, 48 KiB (46.5 KB after the seventh round of the size
-    // work, BENCHMARKS.md).
+    // issue 15's floor, 48 KiB (46,316 bytes after the seventh round of the
+    // size work, BENCHMARKS.md).
     let flash = outcomes[0].get("flash");
     assert!(flash <= 48 * 1024, "Program 1 baked needs {flash} bytes of flash");
     // Issue 15: Program 1's pinhole count no worse than before (6,889 instructions
