@@ -378,21 +378,21 @@ fn side_form(v: &[Wide; 8], terms: &[(i8, u8); 7]) -> i64 {
 /// line crosses its plane within the unit circle; else the side's quadric must
 /// be met (`b² − a c >= 0`, as `a − c_y²` for the cylinder and
 /// `c_x² + c_z² − 4 c_y²` for the cone) with its chord's middle between the
-/// ends. `None` where |p| is 4 or more on an axis.
+/// ends. `None` where |p| is 2 or more on an axis (no line near the solid).
 #[inline(never)]
 fn side_entry(p: [i64; 3], dir: [i64; 3], cone: bool) -> Option<(bool, u8)> {
-    if p.iter().any(|x| x.unsigned_abs() >= 1 << 32) {
+    if p.iter().any(|x| x.unsigned_abs() >= 1 << 31) {
         return None;
     }
     let mut q = p;
     q[1] -= if cone { 1 << 30 } else { 0 };
-    let (q, d) = (q.map(|m| Wide { m, e: -30 }), dir.map(|m| Wide { m, e: 0 }));
+    // q × D exactly: |q| < 3 · 2^30 and D cut to 30 bits, each product below 2^62.
+    let d = dir.map(|x| x >> 1);
     let mut v = [Wide { m: 0, e: 0 }; 8];
     for i in 0..3 {
         let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-        let minus = q[k].mul(d[j]);
-        v[i] = q[j].mul(d[k]).add(Wide { m: -minus.m, e: minus.e });
-        v[i + 3] = d[i];
+        v[i] = Wide { m: mul_once(q[j], d[k]) - mul_once(q[k], d[j]), e: -30 };
+        v[i + 3] = Wide { m: d[i], e: 0 };
     }
     let forms = &SIDE_FORMS[usize::from(cone)];
     let holds = |f: usize| side_form(&v, &forms[f]) >= 0;
