@@ -15,6 +15,9 @@ use fixed::types::I16F16;
 /// The map's exact parts, from the camera's set-up (world space).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct FilmMapDesc {
+    /// The lens centre (a pinhole's eye), whose bits below Q16.16 the chief
+    /// rays carry.
+    pub eye: [f64; 3],
     /// Change of direction per unit of the doubled column index.
     pub a: [f64; 3],
     /// Change of direction per unit of the doubled row index.
@@ -42,12 +45,14 @@ pub struct FixedFilmMap {
     k_u: [i32; 3],
     k_v: [i32; 3],
     f: u32,
+    /// The eye's bits below Q16.16 at 2^-32 (`FixedDir::o_lo` of chief rays).
+    eye_lo: [i32; 3],
 }
 
 impl crate::bytes::Field for FixedFilmMap {
-    crate::bytes::baked_fields!(FixedFilmMap { a, b, c, k_u, k_v, f }, check(m) {
+    crate::bytes::baked_fields!(FixedFilmMap { a, b, c, k_u, k_v, f, eye_lo }, check(m) {
         // Directions stay below 2^31 at scale 2^-s, so c below 2^46 at 2^-(s + f).
-        if m.f > 15 || m.c.iter().any(|x| x.unsigned_abs() >= 1 << 46) {
+        if m.f > 15 || m.c.iter().any(|x| x.unsigned_abs() >= 1 << 46) || m.eye_lo.iter().any(|x| x.unsigned_abs() > 1 << 16) {
             return Err(crate::bytes::BakeError::OutOfRange("film map beyond its scale"));
         }
     });
@@ -122,6 +127,15 @@ impl FixedFilmMap {
             k_u: d.k_u.map(|x| scale(x, s) as i32),
             k_v: d.k_v.map(|x| scale(x, s) as i32),
             f,
+            // What rounding to Q16.16 (as `Scalar::from_f64`) leaves, at 2^-32; 0 out of range.
+            eye_lo: d.eye.map(|x| {
+                let q = libm::floor(x * 65536.0 + 0.5);
+                if libm::fabs(q) < (1u64 << 31) as f64 {
+                    round_f64((x * 65536.0 - q) * 65536.0).clamp(-65536.0, 65536.0) as i32
+                } else {
+                    0
+                }
+            }),
         }
     }
 
@@ -163,11 +177,14 @@ impl FixedFilmMap {
                 m: [0; 3],
                 e: -30,
                 unit: false,
+                o_lo: [0; 3],
             };
             return (zero, [I16F16::ZERO; 3]);
         };
         let rounded = m.map(|x| I16F16::from_bits(shr_round(x, 14) as i32));
-        (FixedDir { m, e: -30, unit: true }, rounded)
+        // A chief ray leaves from the eye itself: its bits below Q16.16 ride along.
+        let o_lo = if lens == (0, 0) { self.eye_lo } else { [0; 3] };
+        (FixedDir { m, e: -30, unit: true, o_lo }, rounded)
     }
 }
 
@@ -194,6 +211,7 @@ mod tests {
             let p = width / cols as f64;
             let (w, h) = (width / 2.0, p * rows as f64 / 2.0);
             FilmMapDesc {
+                eye: [0.0; 3],
                 a: u.map(|x| x * p / 2.0),
                 b: v.map(|x| -x * p / 2.0),
                 c: core::array::from_fn(|k| -w * u[k] + h * v[k] - big_n * n[k]),

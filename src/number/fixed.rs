@@ -446,6 +446,7 @@ impl Kernels for I16F16 {
             m: v.map(|x| x.to_bits() as i64),
             e: -16,
             unit: false,
+            o_lo: [0; 3],
         }
     }
     type FilmMap = FixedFilmMap;

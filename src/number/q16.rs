@@ -57,6 +57,9 @@ pub struct FixedDir {
     /// Whether `|m|` is 2^-e within 2^-30 relative (the camera's rays): the
     /// plane then needs no square root for world distances.
     pub(crate) unit: bool,
+    /// The ray origin's bits below Q16.16, at 2^-32 (a pinhole camera's eye:
+    /// its rounding, 2^-17, was 1e-4 in a small object's space; 0 elsewhere).
+    pub(crate) o_lo: [i32; 3],
 }
 
 impl FixedDir {
@@ -85,6 +88,7 @@ impl FixedDir {
             m,
             e: e + k as i32,
             unit: false,
+            o_lo: [0; 3],
         }
     }
 
@@ -102,6 +106,7 @@ impl FixedDir {
             m,
             e: e + k as i32,
             unit: false,
+            o_lo: [0; 3],
         }
     }
 
@@ -176,7 +181,7 @@ pub(crate) fn exact_point(
     let g = d.e.checked_neg().filter(|g| (1..=30).contains(g))? as u32;
     let (mut hi, mut lo) = ([0i64; 3], [0i64; 3]);
     for i in 0..3 {
-        (hi[i], lo[i]) = split_at_g(o[i].to_bits(), d.m[i], s.to_bits() as i64, g)?;
+        (hi[i], lo[i]) = split_at_g(o[i].to_bits(), d.m[i], s.to_bits() as i64, g, d.o_lo[i])?;
     }
     // Each part through the rows' exact sums (31 significant bits kept: 2^-31
     // of the point's size), then added at 2^-30.
@@ -194,14 +199,20 @@ pub(crate) fn exact_point(
     Some((point, exact))
 }
 
-/// One axis of `o 2^g + m s` as its part at 2^-16 and the g bits below
-/// (`None` past the i32 range); out of line: the M0's flash.
+/// One axis of `o 2^g + m s` (with `o`'s bits below Q16.16, `o_lo` at
+/// 2^-32) as its part at 2^-16 and the g bits below (`None` past the i32
+/// range); out of line: the M0's flash.
 #[inline(never)]
-fn split_at_g(o: i32, m: i64, s: i64, g: u32) -> Option<(i64, i64)> {
+fn split_at_g(o: i32, m: i64, s: i64, g: u32, o_lo: i32) -> Option<(i64, i64)> {
     if m.unsigned_abs() >= 1 << 31 {
         return None;
     }
-    let p = ((o as i64) << g) + mul_once(m, s);
+    let lo = if g >= 16 {
+        (o_lo as i64) << (g - 16)
+    } else {
+        shr_round_call(o_lo as i64, 16 - g)
+    };
+    let p = ((o as i64) << g) + mul_once(m, s) + lo;
     let hi = p >> g;
     if hi != hi as i32 as i64 {
         return None;
@@ -527,6 +538,7 @@ mod tests {
             m,
             e: e + k as i32,
             unit: false,
+            o_lo: [0; 3],
         }
     }
 
