@@ -46,13 +46,13 @@ pub struct FixedFilmMap {
     k_v: [i32; 3],
     f: u32,
     /// The eye's bits below Q16.16 at 2^-32 (`FixedDir::o_lo` of chief rays).
-    eye_lo: [i32; 3],
+    eye_lo: [i16; 3],
 }
 
 impl crate::bytes::Field for FixedFilmMap {
     crate::bytes::baked_fields!(FixedFilmMap { a, b, c, k_u, k_v, f, eye_lo }, check(m) {
         // Directions stay below 2^31 at scale 2^-s, so c below 2^46 at 2^-(s + f).
-        if m.f > 15 || m.c.iter().any(|x| x.unsigned_abs() >= 1 << 46) || m.eye_lo.iter().any(|x| x.unsigned_abs() > 1 << 16) {
+        if m.f > 15 || m.c.iter().any(|x| x.unsigned_abs() >= 1 << 46) || m.eye_lo.contains(&i16::MIN) {
             return Err(crate::bytes::BakeError::OutOfRange("film map beyond its scale"));
         }
     });
@@ -131,7 +131,7 @@ impl FixedFilmMap {
             eye_lo: d.eye.map(|x| {
                 let q = libm::floor(x * 65536.0 + 0.5);
                 if libm::fabs(q) < (1u64 << 31) as f64 {
-                    round_f64((x * 65536.0 - q) * 65536.0).clamp(-65536.0, 65536.0) as i32
+                    round_f64((x * 65536.0 - q) * 65536.0).clamp(-32767.0, 32767.0) as i16
                 } else {
                     0
                 }
@@ -184,7 +184,15 @@ impl FixedFilmMap {
         let rounded = m.map(|x| I16F16::from_bits(shr_round(x, 14) as i32));
         // A chief ray leaves from the eye itself: its bits below Q16.16 ride along.
         let o_lo = if lens == (0, 0) { self.eye_lo } else { [0; 3] };
-        (FixedDir { m, e: -30, unit: true, o_lo }, rounded)
+        (
+            FixedDir {
+                m,
+                e: -30,
+                unit: true,
+                o_lo,
+            },
+            rounded,
+        )
     }
 }
 

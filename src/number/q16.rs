@@ -59,7 +59,7 @@ pub struct FixedDir {
     pub(crate) unit: bool,
     /// The ray origin's bits below Q16.16, at 2^-32 (a pinhole camera's eye:
     /// its rounding, 2^-17, was 1e-4 in a small object's space; 0 elsewhere).
-    pub(crate) o_lo: [i32; 3],
+    pub(crate) o_lo: [i16; 3],
 }
 
 impl FixedDir {
@@ -181,7 +181,7 @@ pub(crate) fn exact_point(
     let g = d.e.checked_neg().filter(|g| (1..=30).contains(g))? as u32;
     let (mut hi, mut lo) = ([0i64; 3], [0i64; 3]);
     for i in 0..3 {
-        (hi[i], lo[i]) = split_at_g(o[i].to_bits(), d.m[i], s.to_bits() as i64, g, d.o_lo[i])?;
+        (hi[i], lo[i]) = split_at_g(o[i].to_bits(), d.m[i], s.to_bits() as i64, g, d.o_lo[i] as i64)?;
     }
     // Each part through the rows' exact sums (31 significant bits kept: 2^-31
     // of the point's size), then added at 2^-30.
@@ -203,14 +203,14 @@ pub(crate) fn exact_point(
 /// 2^-32) as its part at 2^-16 and the g bits below (`None` past the i32
 /// range); out of line: the M0's flash.
 #[inline(never)]
-fn split_at_g(o: i32, m: i64, s: i64, g: u32, o_lo: i32) -> Option<(i64, i64)> {
+fn split_at_g(o: i32, m: i64, s: i64, g: u32, o_lo: i64) -> Option<(i64, i64)> {
     if m.unsigned_abs() >= 1 << 31 {
         return None;
     }
     let lo = if g >= 16 {
-        (o_lo as i64) << (g - 16)
+        o_lo << (g - 16)
     } else {
-        shr_round_call(o_lo as i64, 16 - g)
+        shr_round_call(o_lo, 16 - g)
     };
     let p = ((o as i64) << g) + mul_once(m, s) + lo;
     let hi = p >> g;
@@ -311,9 +311,15 @@ impl Wide {
         if n == 0 || n == bits {
             self
         } else if n < bits {
-            Wide { m: self.m << (bits - n), e: self.e - (bits - n) as i32 }
+            Wide {
+                m: self.m << (bits - n),
+                e: self.e - (bits - n) as i32,
+            }
         } else {
-            Wide { m: shr_round_call(self.m, n - bits), e: self.e + (n - bits) as i32 }
+            Wide {
+                m: shr_round_call(self.m, n - bits),
+                e: self.e + (n - bits) as i32,
+            }
         }
     }
 
@@ -321,14 +327,21 @@ impl Wide {
     #[inline(never)]
     fn mul(self, b: Wide) -> Wide {
         let (a, b) = (self.fit(31), b.fit(31));
-        Wide { m: mul_once(a.m, b.m), e: a.e + b.e }
+        Wide {
+            m: mul_once(a.m, b.m),
+            e: a.e + b.e,
+        }
     }
 
     /// `self + b`, both at 61 bits, the smaller shifted to the larger's scale.
     #[inline(never)]
     fn add(self, b: Wide) -> Wide {
         let (a, b) = (self.fit(61), b.fit(61));
-        let (hi, lo) = if a.m == 0 || (b.m != 0 && b.e > a.e) { (b, a) } else { (a, b) };
+        let (hi, lo) = if a.m == 0 || (b.m != 0 && b.e > a.e) {
+            (b, a)
+        } else {
+            (a, b)
+        };
         let k = (hi.e - lo.e) as u32;
         let lo = match k {
             0 => lo.m,
@@ -402,7 +415,10 @@ fn side_entry(p: [i64; 3], dir: [i64; 3], cone: bool) -> Option<(bool, u8)> {
     let mut v = [Wide { m: 0, e: 0 }; 8];
     for i in 0..3 {
         let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-        v[i] = Wide { m: mul_once(q[j], d[k]) - mul_once(q[k], d[j]), e: -30 };
+        v[i] = Wide {
+            m: mul_once(q[j], d[k]) - mul_once(q[k], d[j]),
+            e: -30,
+        };
         v[i + 3] = Wide { m: d[i], e: 0 };
     }
     let forms = &SIDE_FORMS[usize::from(cone)];
@@ -566,14 +582,21 @@ mod tests {
             if i % 5 == 0 {
                 d[1] = 0.0;
             }
-            let (pi, di) = (p.map(|x| (x * (1u64 << 30) as f64) as i64), d.map(|x| (x * (1u64 << 30) as f64) as i64));
+            let (pi, di) = (
+                p.map(|x| (x * (1u64 << 30) as f64) as i64),
+                d.map(|x| (x * (1u64 << 30) as f64) as i64),
+            );
             let (pf, df) = (pi.map(|x| x as f64 / (1u64 << 30) as f64), di.map(|x| x as f64));
             let want = sampled(pf, df.map(|x| x / (1u64 << 30) as f64), cone);
             let got = side_entry(pi, di, cone).expect("in range").0;
             // The sampling's own step (1e-4 along the line) can miss a grazing hit.
             if got != want {
-                let nudged = [-1e-3, 1e-3].map(|e| sampled(pf.map(|x| x * (1.0 + e)), df.map(|x| x / (1u64 << 30) as f64), cone));
-                assert!(nudged[0] != nudged[1] || nudged.contains(&got), "{cone} {pf:?} {df:?}: {got}, sampled {want}");
+                let nudged = [-1e-3, 1e-3]
+                    .map(|e| sampled(pf.map(|x| x * (1.0 + e)), df.map(|x| x / (1u64 << 30) as f64), cone));
+                assert!(
+                    nudged[0] != nudged[1] || nudged.contains(&got),
+                    "{cone} {pf:?} {df:?}: {got}, sampled {want}"
+                );
             }
             checked += 1;
         }

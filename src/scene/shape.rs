@@ -317,7 +317,11 @@ fn side_hit<S: Scalar>(
     let end = S::ONE.sub(p.y.abs()).abs() < close_band();
     *close |= end;
     let high = p.y > S::ZERO;
-    let limit = if part == Some(SIDE) && end { S::ONE.add(close_band()) } else { S::ONE };
+    let limit = if part == Some(SIDE) && end {
+        S::ONE.add(close_band())
+    } else {
+        S::ONE
+    };
     if p.y < limit.neg() || p.y > limit || (end && part == Some(if high { HIGH_CAP } else { LOW_CAP })) {
         return None;
     }
