@@ -240,6 +240,33 @@ mod tests {
         .into_iter()
     }
 
+    /// The eye's low bits put back on its Q16.16 value give the eye within
+    /// 2^-33, and only chief rays carry them.
+    #[test]
+    fn chief_rays_carry_the_eye_to_2_32() {
+        use crate::number::Scalar;
+        let mut unit = crate::test_rng::unit_f64(0xe7e);
+        let base = cameras().next().expect("a camera");
+        for _ in 0..10_000 {
+            let eye = [0; 3].map(|_| (unit() - 0.5) * 60_000.0);
+            let map = FixedFilmMap::new(&FilmMapDesc { eye, ..base });
+            for k in 0..3 {
+                let q = <I16F16 as Scalar>::from_f64(eye[k]).to_bits() as f64 / 65536.0;
+                let back = q + map.eye_lo[k] as f64 / 4_294_967_296.0;
+                // 2^-33 and the f64 sum's own rounding at 30,000.
+                assert!(
+                    (back - eye[k]).abs() <= 2f64.powi(-33) + 1e-11,
+                    "{} vs {}",
+                    back,
+                    eye[k]
+                );
+            }
+            let film = map.film(3, 5);
+            assert_eq!(map.ray_dir(&film, (0, 0)).0.o_lo, map.eye_lo);
+            assert_eq!(map.ray_dir(&film, (100, -7)).0.o_lo, [0; 3]);
+        }
+    }
+
     #[test]
     fn unit_directions_match_the_exact_ones() {
         let mut next = crate::test_rng::xorshift32(0x9E37_79B9);
