@@ -250,8 +250,8 @@ mod tests {
         for _ in 0..10_000 {
             let eye = [0; 3].map(|_| (unit() - 0.5) * 60_000.0);
             let map = FixedFilmMap::new(&FilmMapDesc { eye, ..base });
-            for k in 0..3 {
-                let q = <I16F16 as Scalar>::from_f64(eye[k]).to_bits() as f64 / 65536.0;
+            for (k, &e) in eye.iter().enumerate() {
+                let q = <I16F16 as Scalar>::from_f64(e).to_bits() as f64 / 65536.0;
                 let back = q + map.eye_lo[k] as f64 / 4_294_967_296.0;
                 // 2^-33 and the f64 sum's own rounding at 30,000.
                 assert!(
