@@ -116,11 +116,9 @@ fn near_tangent_decisions_agree_with_f64() {
         // Rays 0 to 4 Q16.16 steps (up to 6e-5 world units, 3e-4 object
         // units) from the flip. Measured on these 400 silhouettes a shape:
         // without the recheck 9.4 % (sphere) to 13.1 % (cube) went the other
-        // way; with it none for the sphere and the cube (decided exactly) and
-        // 4.6 % (cylinder) and 7.7 % (cone), whose second pass still rounds
-        // its point and direction to 2^-17 (docs/accuracy.md, fix 10).
-        let exact = matches!(shape, Shape::Sphere | Shape::Cube);
-        let bound = if exact { 0 } else { rays * 8 / 100 };
-        assert!(wrong <= bound, "{shape:?}: {wrong} of {rays} unlike f64");
+        // way; with the exact decisions none, for every shape (the cylinder's
+        // and the cone's from fix 11; 4.6 % and 7.7 % with their second pass
+        // rounded to 2^-17: docs/accuracy.md, fixes 10 and 11).
+        assert_eq!(wrong, 0, "{shape:?}: {wrong} of {rays} unlike f64");
     }
 }

@@ -210,6 +210,7 @@ impl<S: Scalar> Camera<S> {
         // World direction of p_film = (p/2 · i − W, H − p/2 · j, −N), less the
         // lens tilt: i (p/2) u + j (−p/2) v + (−W u + H v − N n) − s_x (a/m) u − s_y (a/m) v.
         let desc = FilmMapDesc {
+            eye: e,
             a: u.map(|x| x * p / 2.0),
             b: v.map(|x| -x * p / 2.0),
             c: [0, 1, 2].map(|k| -half_w * u[k] + half_h * v[k] - big_n * n[k]),

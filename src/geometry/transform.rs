@@ -187,7 +187,7 @@ impl<S: Scalar> Affine<S> {
     }
 
     /// The object-space point of the world ray `o + s d` (`d` held
-    /// precisely), exactly and rounded once, and with `rim` (or `cube`) whether the line
+    /// precisely), exactly and rounded once, and with `rim` (or `solid`) whether the line
     /// along it through the exact point meets the unit sphere, where the
     /// type has the kernel (`Kernels::exact_point`).
     #[inline]
@@ -197,9 +197,9 @@ impl<S: Scalar> Affine<S> {
         d: &S::Dir,
         s: S,
         rim: Option<Vec3<S>>,
-        cube: bool,
+        solid: u8,
     ) -> Option<(Vec3<S>, crate::number::Decided)> {
-        S::exact_point(&self.rows, o.to_array(), d, s, rim.map(Vec3::to_array), cube)
+        S::exact_point(&self.rows, o.to_array(), d, s, rim.map(Vec3::to_array), solid)
             .map(|(p, r)| (Vec3::from_array(p), r))
     }
 

@@ -15,6 +15,9 @@ use fixed::types::I16F16;
 /// The map's exact parts, from the camera's set-up (world space).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct FilmMapDesc {
+    /// The lens centre (a pinhole's eye), whose bits below Q16.16 the chief
+    /// rays carry.
+    pub eye: [f64; 3],
     /// Change of direction per unit of the doubled column index.
     pub a: [f64; 3],
     /// Change of direction per unit of the doubled row index.
@@ -42,12 +45,14 @@ pub struct FixedFilmMap {
     k_u: [i32; 3],
     k_v: [i32; 3],
     f: u32,
+    /// The eye's bits below Q16.16 at 2^-32 (`FixedDir::o_lo` of chief rays).
+    eye_lo: [i16; 3],
 }
 
 impl crate::bytes::Field for FixedFilmMap {
-    crate::bytes::baked_fields!(FixedFilmMap { a, b, c, k_u, k_v, f }, check(m) {
+    crate::bytes::baked_fields!(FixedFilmMap { a, b, c, k_u, k_v, f, eye_lo }, check(m) {
         // Directions stay below 2^31 at scale 2^-s, so c below 2^46 at 2^-(s + f).
-        if m.f > 15 || m.c.iter().any(|x| x.unsigned_abs() >= 1 << 46) {
+        if m.f > 15 || m.c.iter().any(|x| x.unsigned_abs() >= 1 << 46) || m.eye_lo.contains(&i16::MIN) {
             return Err(crate::bytes::BakeError::OutOfRange("film map beyond its scale"));
         }
     });
@@ -124,6 +129,15 @@ impl FixedFilmMap {
             k_u: d.k_u.map(|x| scale(x, s) as i32),
             k_v: d.k_v.map(|x| scale(x, s) as i32),
             f,
+            // What rounding to Q16.16 (as `Scalar::from_f64`) leaves, at 2^-32; 0 out of range.
+            eye_lo: d.eye.map(|x| {
+                let q = libm::floor(x * 65536.0 + 0.5);
+                if libm::fabs(q) < (1u64 << 31) as f64 {
+                    round_f64((x * 65536.0 - q) * 65536.0).clamp(-32767.0, 32767.0) as i16
+                } else {
+                    0
+                }
+            }),
         }
     }
 
@@ -165,11 +179,22 @@ impl FixedFilmMap {
                 m: [0; 3],
                 e: -30,
                 unit: false,
+                o_lo: [0; 3],
             };
             return (zero, [I16F16::ZERO; 3]);
         };
         let rounded = m.map(|x| I16F16::from_bits(shr_round(x, 14) as i32));
-        (FixedDir { m, e: -30, unit: true }, rounded)
+        // A chief ray leaves from the eye itself: its bits below Q16.16 ride along.
+        let o_lo = if lens == (0, 0) { self.eye_lo } else { [0; 3] };
+        (
+            FixedDir {
+                m,
+                e: -30,
+                unit: true,
+                o_lo,
+            },
+            rounded,
+        )
     }
 }
 
@@ -196,6 +221,7 @@ mod tests {
             let p = width / cols as f64;
             let (w, h) = (width / 2.0, p * rows as f64 / 2.0);
             FilmMapDesc {
+                eye: [0.0; 3],
                 a: u.map(|x| x * p / 2.0),
                 b: v.map(|x| -x * p / 2.0),
                 c: core::array::from_fn(|k| -w * u[k] + h * v[k] - big_n * n[k]),
@@ -214,6 +240,33 @@ mod tests {
             desc(32000.0, 640, 480, 0.01, 0.0),
         ]
         .into_iter()
+    }
+
+    /// The eye's low bits put back on its Q16.16 value give the eye within
+    /// 2^-33, and only chief rays carry them.
+    #[test]
+    fn chief_rays_carry_the_eye_to_2_32() {
+        use crate::number::Scalar;
+        let mut unit = crate::test_rng::unit_f64(0xe7e);
+        let base = cameras().next().expect("a camera");
+        for _ in 0..10_000 {
+            let eye = [0; 3].map(|_| (unit() - 0.5) * 60_000.0);
+            let map = FixedFilmMap::new(&FilmMapDesc { eye, ..base });
+            for (k, &e) in eye.iter().enumerate() {
+                let q = <I16F16 as Scalar>::from_f64(e).to_bits() as f64 / 65536.0;
+                let back = q + map.eye_lo[k] as f64 / 4_294_967_296.0;
+                // 2^-33 and the f64 sum's own rounding at 30,000.
+                assert!(
+                    (back - eye[k]).abs() <= 2f64.powi(-33) + 1e-11,
+                    "{} vs {}",
+                    back,
+                    eye[k]
+                );
+            }
+            let film = map.film(3, 5);
+            assert_eq!(map.ray_dir(&film, (0, 0)).0.o_lo, map.eye_lo);
+            assert_eq!(map.ray_dir(&film, (100, -7)).0.o_lo, [0; 3]);
+        }
     }
 
     #[test]

@@ -446,6 +446,7 @@ impl Kernels for I16F16 {
             m: v.map(|x| x.to_bits() as i64),
             e: -16,
             unit: false,
+            o_lo: [0; 3],
         }
     }
     type FilmMap = FixedFilmMap;
@@ -484,9 +485,9 @@ impl Kernels for I16F16 {
         d: &FixedDir,
         s: Self,
         rim: Option<[Self; 3]>,
-        cube: bool,
+        solid: u8,
     ) -> Option<([Self; 3], crate::number::q16::Decided)> {
-        crate::number::q16::exact_point(rows, o, d, s, rim, cube)
+        crate::number::q16::exact_point(rows, o, d, s, rim, solid)
     }
     #[inline]
     fn acc_zero() -> i64 {

@@ -58,6 +58,9 @@ pub struct FixedDir {
     /// Whether `|m|` is 2^-e within 2^-30 relative (the camera's rays): the
     /// plane then needs no square root for world distances.
     pub(crate) unit: bool,
+    /// The ray origin's bits below Q16.16, at 2^-32 (a pinhole camera's eye:
+    /// its rounding, 2^-17, was 1e-4 in a small object's space; 0 elsewhere).
+    pub(crate) o_lo: [i16; 3],
 }
 
 impl FixedDir {
@@ -86,6 +89,7 @@ impl FixedDir {
             m,
             e: e + k as i32,
             unit: false,
+            o_lo: [0; 3],
         }
     }
 
@@ -103,6 +107,7 @@ impl FixedDir {
             m,
             e: e + k as i32,
             unit: false,
+            o_lo: [0; 3],
         }
     }
 
@@ -134,9 +139,24 @@ impl FixedDir {
     }
 }
 
-/// A shape's hit-or-miss decided exactly, with the cube's entry axis
+/// A shape's hit-or-miss decided exactly, with the cube's entry axis or the
+/// cylinder's and cone's entry part ([`SIDE`], [`LOW_CAP`], [`HIGH_CAP`])
 /// (`None`: not decided).
 pub(crate) type Decided = Option<(bool, u8)>;
+
+/// [`exact_point`]'s solids decided exactly from the point and direction
+/// (the sphere by its rim, the others by none).
+pub(crate) const CUBE: u8 = 1;
+/// See [`CUBE`].
+pub(crate) const CYLINDER: u8 = 2;
+/// See [`CUBE`].
+pub(crate) const CONE: u8 = 3;
+/// A cylinder's or cone's entry part: its side.
+pub(crate) const SIDE: u8 = 0;
+/// The cap (the cone's base) at y = −1.
+pub(crate) const LOW_CAP: u8 = 1;
+/// The cylinder's cap at y = 1.
+pub(crate) const HIGH_CAP: u8 = 2;
 
 /// `rows · (o + s d)` rounded once to Q16.16 (`Kernels::exact_point`): the
 /// world point, exact at scale 2^-(16 + g) with g = −d.e (`o 2^g + m s`,
@@ -145,9 +165,10 @@ pub(crate) type Decided = Option<(bool, u8)>;
 /// in the world, then each row's sum rounded) it drops the world rounding,
 /// which the object's inverse scale multiplies. With `rim` (a unit
 /// direction), also whether the line through the point along it meets the
-/// unit sphere, from the point at 2^-30 (see [`within_rim`]); with `cube`,
-/// whether the ray meets the cube [-1, 1]³ and through which axis's face
-/// (see [`cube_entry`]).
+/// unit sphere, from the point at 2^-30 (see [`within_rim`]); for `solid`
+/// [`CUBE`], whether the ray meets the cube [-1, 1]³ and through which
+/// axis's face (see [`cube_entry`]); for [`CYLINDER`] and [`CONE`], whether it
+/// meets the solid and through which part (see [`side_entry`]).
 #[cold]
 #[inline(never)]
 pub(crate) fn exact_point(
@@ -156,12 +177,12 @@ pub(crate) fn exact_point(
     d: &FixedDir,
     s: I16F16,
     rim: Option<[I16F16; 3]>,
-    cube: bool,
+    solid: u8,
 ) -> Option<([I16F16; 3], Decided)> {
     let g = d.e.checked_neg().filter(|g| (1..=30).contains(g))? as u32;
     let (mut hi, mut lo) = ([0i64; 3], [0i64; 3]);
     for i in 0..3 {
-        (hi[i], lo[i]) = split_at_g(o[i].to_bits(), d.m[i], s.to_bits() as i64, g)?;
+        (hi[i], lo[i]) = split_at_g(o[i].to_bits(), d.m[i], s.to_bits() as i64, g, d.o_lo[i] as i64)?;
     }
     // Each part through the rows' exact sums (31 significant bits kept: 2^-31
     // of the point's size), then added at 2^-30.
@@ -171,22 +192,28 @@ pub(crate) fn exact_point(
     );
     let fine: [i64; 3] = core::array::from_fn(|j| at30(a.m[j], a.e) + at30(b.m[j], b.e));
     let point = fine.map(round14);
-    let exact = if cube {
-        cube_entry(fine, rows, d)
-    } else {
-        rim.and_then(|u| within_rim(fine, u)).map(|x| (x, 0))
+    let exact = match solid {
+        CUBE => cube_entry(fine, rows, d),
+        CYLINDER | CONE => local_dir(rows, d).and_then(|dir| side_entry(fine, dir, solid == CONE)),
+        _ => rim.and_then(|u| within_rim(fine, u)).map(|x| (x, 0)),
     };
     Some((point, exact))
 }
 
-/// One axis of `o 2^g + m s` as its part at 2^-16 and the g bits below
-/// (`None` past the i32 range); out of line: the M0's flash.
+/// One axis of `o 2^g + m s` (with `o`'s bits below Q16.16, `o_lo` at
+/// 2^-32) as its part at 2^-16 and the g bits below (`None` past the i32
+/// range); out of line: the M0's flash.
 #[inline(never)]
-fn split_at_g(o: i32, m: i64, s: i64, g: u32) -> Option<(i64, i64)> {
+fn split_at_g(o: i32, m: i64, s: i64, g: u32, o_lo: i64) -> Option<(i64, i64)> {
     if m.unsigned_abs() >= 1 << 31 {
         return None;
     }
-    let p = ((o as i64) << g) + mul_once(m, s);
+    let lo = if g >= 16 {
+        o_lo << (g - 16)
+    } else {
+        shr_round_call(o_lo, 16 - g)
+    };
+    let p = ((o as i64) << g) + mul_once(m, s) + lo;
     let hi = p >> g;
     if hi != hi as i32 as i64 {
         return None;
@@ -265,6 +292,153 @@ fn cube_entry(p: [i64; 3], rows: &[FixedRow; 3], d: &FixedDir) -> Option<(bool, 
     // Entering through axis k's face no later than leaving through any.
     let hit = (0..3).all(|j| m[j] == 0 || mul_once(a[k] as i64, m[j] as i64) <= mul_once(b[j] as i64, m[k] as i64));
     Some((hit, k as u8))
+}
+
+/// `m · 2^e` with `|m| < 2^62`: the cold exact decisions' one number type,
+/// products of 31-bit mantissas and aligned sums (each within 2^-30 of its
+/// terms, 2^-30 of the shape's size where its forms are evaluated).
+#[derive(Copy, Clone)]
+struct Wide {
+    m: i64,
+    e: i32,
+}
+
+impl Wide {
+    /// The same value with exactly `bits` significant bits (0 stays 0),
+    /// rounded where bits are dropped.
+    #[inline(never)]
+    fn fit(self, bits: u32) -> Wide {
+        let n = bits_u64(self.m.unsigned_abs());
+        if n == 0 || n == bits {
+            self
+        } else if n < bits {
+            Wide {
+                m: self.m << (bits - n),
+                e: self.e - (bits - n) as i32,
+            }
+        } else {
+            Wide {
+                m: shr_round_call(self.m, n - bits),
+                e: self.e + (n - bits) as i32,
+            }
+        }
+    }
+
+    /// `self · b` from 31-bit mantissas (below 2^62).
+    #[inline(never)]
+    fn mul(self, b: Wide) -> Wide {
+        let (a, b) = (self.fit(31), b.fit(31));
+        Wide {
+            m: mul_once(a.m, b.m),
+            e: a.e + b.e,
+        }
+    }
+
+    /// `self + b`, both at 61 bits, the smaller shifted to the larger's scale.
+    #[inline(never)]
+    fn add(self, b: Wide) -> Wide {
+        let (a, b) = (self.fit(61), b.fit(61));
+        let (hi, lo) = if a.m == 0 || (b.m != 0 && b.e > a.e) {
+            (b, a)
+        } else {
+            (a, b)
+        };
+        let k = (hi.e - lo.e) as u32;
+        let lo = match k {
+            0 => lo.m,
+            1..=62 => shr_round_call(lo.m, k),
+            _ => 0,
+        };
+        Wide { m: hi.m + lo, e: hi.e }
+    }
+}
+
+/// [`side_entry`]'s forms, each up to 7 terms `c · v_i v_j` (as `(c, 8 i + j)`)
+/// of `v = (q × D, D)`: the low and the high end's crossing within the unit
+/// circle, the side's discriminant, y at the chord's middle above the low
+/// end and below the high end, and the side's leading coefficient `a` (the
+/// cone's times 4). `q` is the point about the apex for the cone, whose ends
+/// are then at y = −2 and 0 and whose high end has no cap.
+#[rustfmt::skip]
+const SIDE_FORMS: [[[(i8, u8); 7]; 6]; 2] = [
+    // The cylinder.
+    [
+        [(-1, 0), (-2, 5), (-1, 18), (2, 19), (-1, 27), (1, 36), (-1, 45)],
+        [(-1, 0), (2, 5), (-1, 18), (-2, 19), (-1, 27), (1, 36), (-1, 45)],
+        [(-1, 9), (1, 27), (1, 45), (0, 0), (0, 0), (0, 0), (0, 0)],
+        [(1, 5), (-1, 19), (1, 27), (1, 45), (0, 0), (0, 0), (0, 0)],
+        [(-1, 5), (1, 19), (1, 27), (1, 45), (0, 0), (0, 0), (0, 0)],
+        [(1, 27), (1, 45), (0, 0), (0, 0), (0, 0), (0, 0), (0, 0)],
+    ],
+    // The cone.
+    [
+        [(-1, 0), (-4, 5), (-1, 18), (4, 19), (-4, 27), (1, 36), (-4, 45)],
+        [(0, 0), (0, 0), (0, 0), (0, 0), (0, 0), (0, 0), (0, 0)],
+        [(1, 0), (-4, 9), (1, 18), (0, 0), (0, 0), (0, 0), (0, 0)],
+        [(4, 5), (-4, 19), (8, 27), (-2, 36), (8, 45), (0, 0), (0, 0)],
+        [(-1, 5), (1, 19), (0, 0), (0, 0), (0, 0), (0, 0), (0, 0)],
+        [(4, 27), (-1, 36), (4, 45), (0, 0), (0, 0), (0, 0), (0, 0)],
+    ],
+];
+
+/// One of [`SIDE_FORMS`] at `v`, its sign (one loop for every form: the M0's flash).
+#[inline(never)]
+fn side_form(v: &[Wide; 8], terms: &[(i8, u8); 7]) -> i64 {
+    let mut acc = Wide { m: 0, e: 0 };
+    for &(c, ij) in terms {
+        if c != 0 {
+            let x = v[(ij >> 3) as usize & 7].mul(v[ij as usize & 7]);
+            acc = acc.add(x.mul(Wide { m: c as i64, e: 0 }));
+        }
+    }
+    acc.m
+}
+
+/// Whether the line `p + t D` (`p` at 2^-30, `D` the exact object-space
+/// direction, any length) meets the cylinder (`cone` false) or the cone, and
+/// through which part it enters ([`SIDE`], [`LOW_CAP`], [`HIGH_CAP`]). Every
+/// test is the sign of a quadratic form in `q × D` and `D` (`q` the point, the
+/// cone's about its apex), so `D`'s scale drops out and nothing cancels
+/// beyond the test's own margin ([`SIDE_FORMS`]): a cap is entered where the
+/// line crosses its plane within the unit circle; else the side's quadric must
+/// be met (`b² − a c >= 0`, as `a − c_y²` for the cylinder and
+/// `c_x² + c_z² − 4 c_y²` for the cone) with its chord's middle between the
+/// ends. `None` where |p| is 2 or more on an axis (no line near the solid).
+#[inline(never)]
+fn side_entry(p: [i64; 3], dir: [i64; 3], cone: bool) -> Option<(bool, u8)> {
+    if p.iter().any(|x| x.unsigned_abs() >= 1 << 31) {
+        return None;
+    }
+    let mut q = p;
+    q[1] -= if cone { 1 << 30 } else { 0 };
+    // q × D exactly: |q| < 3 · 2^30 and D cut to 30 bits, each product below 2^62.
+    let d = dir.map(|x| x >> 1);
+    let mut v = [Wide { m: 0, e: 0 }; 8];
+    for i in 0..3 {
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        v[i] = Wide {
+            m: mul_once(q[j], d[k]) - mul_once(q[k], d[j]),
+            e: -30,
+        };
+        v[i + 3] = Wide { m: d[i], e: 0 };
+    }
+    let forms = &SIDE_FORMS[usize::from(cone)];
+    let holds = |f: usize| side_form(&v, &forms[f]) >= 0;
+    if dir[1] != 0 {
+        let up = dir[1] > 0;
+        // The end it enters by (the cone's base only from below), then the one it leaves by.
+        if (!cone || up) && holds(usize::from(!up)) {
+            return Some((true, if up { LOW_CAP } else { HIGH_CAP }));
+        }
+        if (!cone || !up) && holds(usize::from(up)) {
+            return Some((true, SIDE));
+        }
+    } else if p[1].unsigned_abs() > 1 << 30 {
+        return Some((false, SIDE));
+    }
+    // Along the axis or steeper than the cone's lines (a <= 0): the ends decided.
+    let met = side_form(&v, &forms[5]) > 0 && holds(2) && holds(3) && holds(4);
+    Some((met, SIDE))
 }
 
 /// [`mul_i64`] as one out-of-line copy for the cold kernels (the M0's flash).
@@ -381,7 +555,53 @@ mod tests {
             m,
             e: e + k as i32,
             unit: false,
+            o_lo: [0; 3],
         }
+    }
+
+    /// Whether the line `p + t d` meets the cylinder or cone, by sampling it
+    /// densely in f64 (the definition, none of the forms).
+    fn sampled(p: [f64; 3], d: [f64; 3], cone: bool) -> bool {
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let d = d.map(|x| x / len);
+        (-60_000..=60_000).any(|k| {
+            let t = k as f64 / 10_000.0;
+            let x = [0, 1, 2].map(|i| p[i] + t * d[i]);
+            let r = if cone { (1.0 - x[1]) / 2.0 } else { 1.0 };
+            x[1].abs() <= 1.0 && x[0] * x[0] + x[2] * x[2] <= r * r
+        })
+    }
+
+    #[test]
+    fn side_entry_agrees_with_the_sampled_line() {
+        let mut unit = crate::test_rng::unit_f64(0x5eed);
+        let mut checked = 0;
+        for i in 0..3000 {
+            let cone = i % 2 == 0;
+            let p = [0; 3].map(|_| unit() * 3.0 - 1.5);
+            let mut d = [0; 3].map(|_| unit() * 2.0 - 1.0);
+            if i % 5 == 0 {
+                d[1] = 0.0;
+            }
+            let (pi, di) = (
+                p.map(|x| (x * (1u64 << 30) as f64) as i64),
+                d.map(|x| (x * (1u64 << 30) as f64) as i64),
+            );
+            let (pf, df) = (pi.map(|x| x as f64 / (1u64 << 30) as f64), di.map(|x| x as f64));
+            let want = sampled(pf, df.map(|x| x / (1u64 << 30) as f64), cone);
+            let got = side_entry(pi, di, cone).expect("in range").0;
+            // The sampling's own step (1e-4 along the line) can miss a grazing hit.
+            if got != want {
+                let nudged = [-1e-3, 1e-3]
+                    .map(|e| sampled(pf.map(|x| x * (1.0 + e)), df.map(|x| x / (1u64 << 30) as f64), cone));
+                assert!(
+                    nudged[0] != nudged[1] || nudged.contains(&got),
+                    "{cone} {pf:?} {df:?}: {got}, sampled {want}"
+                );
+            }
+            checked += 1;
+        }
+        assert_eq!(checked, 3000);
     }
 
     #[test]

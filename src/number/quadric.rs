@@ -113,9 +113,10 @@ pub(crate) fn side_roots(o: [I16F16; 3], d: [I16F16; 3], cone: bool, close: &mut
         return Some((t, t));
     }
     let disc = mul_wide(b, b) - mul_wide(a, c);
-    // |disc| below (2⁻⁹)² at scale 2⁻⁶⁴ (the cone's times 16): A <= 4 keeps
-    // every chord shorter than 2⁻⁹ inside.
-    *close |= disc.unsigned_abs() < 1 << 50;
+    // |disc| below 2⁻¹² at scale 2⁻⁶⁴ (the cone's at its own scale, times
+    // 16): a line within about 2⁻¹³ / A of tangent, above Q16.16's error
+    // (the cone's at 2⁻¹⁴ of the cylinder's left most of its tangents undecided).
+    *close |= disc.unsigned_abs() < if cone { 1 << 56 } else { 1 << 52 };
     if disc < 0 {
         return None;
     }

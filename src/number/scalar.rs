@@ -200,16 +200,17 @@ mod kernels {
         /// The object-space point `rows · (o + s d)` of a world ray `o + s d`
         /// (`d` as held precisely), computed exactly and rounded once, and
         /// with `rim` (a unit direction) whether the line through the exact
-        /// point along it meets the unit sphere, with `cube` whether the ray
-        /// meets the cube and through which axis's face; `None` where the type has no
-        /// such kernel (f32) or the scales do not fit.
+        /// point along it meets the unit sphere, with `solid` (`q16::CUBE`,
+        /// `CYLINDER`, `CONE`) whether the ray meets that solid and through
+        /// which face or part; `None` where the type has no such kernel (f32)
+        /// or the scales do not fit.
         fn exact_point(
             _rows: &[Self::Row; 3],
             _o: [Self; 3],
             _d: &Self::Dir,
             _s: Self,
             _rim: Option<[Self; 3]>,
-            _cube: bool,
+            _solid: u8,
         ) -> Option<([Self; 3], crate::number::q16::Decided)> {
             None
         }

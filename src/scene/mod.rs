@@ -398,7 +398,14 @@ impl<S: Scalar> Object<S> {
         let l = lo.dot(ld).neg();
         let s = base.add(if by_len { l.div(k) } else { l.mul(k) }).div(len);
         let rim = (self.shape == Shape::Sphere).then_some(ld);
-        let (p, inside) = self.to_object.exact_point(o, d, s, rim, self.shape == Shape::Cube)?;
+        use crate::number::{CONE, CUBE, CYLINDER};
+        let solid = match self.shape {
+            Shape::Cube => CUBE,
+            Shape::Cylinder => CYLINDER,
+            Shape::Cone => CONE,
+            _ => 0,
+        };
+        let (p, inside) = self.to_object.exact_point(o, d, s, rim, solid)?;
         Some((p, s.mul(len), inside))
     }
 

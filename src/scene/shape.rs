@@ -9,7 +9,7 @@
 //! distance along the unit direction.
 
 use crate::geometry::vec3::Vec3;
-use crate::number::Scalar;
+use crate::number::{Scalar, HIGH_CAP, LOW_CAP, SIDE};
 
 /// A shape of the scene format, in its object space.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -86,9 +86,10 @@ impl Shape {
     /// Sets `close` where a decision (a rim, an edge, a side's end, a cap's
     /// rim, a tangent) fell within [`close_band`] of its boundary: Q16.16's
     /// object-space ray may be on the wrong side there (`Kernels::RECHECK`).
-    /// `exact`, where given, decides whether a sphere or a cube is met and
-    /// the cube's entry face (from the exact ray: `Kernels::exact_point`); a
-    /// grazing ray then takes the tangent point or that face's slab time.
+    /// `exact`, where given, decides whether the shape is met and the cube's
+    /// entry face or the cylinder's and cone's entry part (from the exact
+    /// ray: `Kernels::exact_point`); a grazing ray then takes the tangent
+    /// point, that face's slab time or that part's hit.
     pub(crate) fn intersect_bounded<S: Scalar>(
         self,
         o: Vec3<S>,
@@ -102,8 +103,8 @@ impl Shape {
             Shape::Sphere => sphere(o, d, t_min, t_max, close, exact.map(|e| e.0)),
             Shape::Plane => None,
             Shape::Cube => cube(o, d, t_min, t_max, close, exact),
-            Shape::Cylinder => cylinder(o, d, t_min, t_max, close),
-            Shape::Cone => cone(o, d, t_min, t_max, close),
+            Shape::Cylinder => cylinder(o, d, t_min, t_max, close, exact),
+            Shape::Cone => cone(o, d, t_min, t_max, close, exact),
         }
     }
 }
@@ -247,9 +248,21 @@ fn cube<S: Scalar>(
     })
 }
 
-/// Hit on the cap `y = y_cap` (±1) of radius 1, if any.
-fn cap<S: Scalar>(o: Vec3<S>, d: Vec3<S>, y_cap: S, t_min: S, t_max: S, close: &mut bool) -> Option<LocalHit<S>> {
-    if d.y == S::ZERO {
+/// Hit on the cap `y = y_cap` (±1, `code` its `LOW_CAP` or `HIGH_CAP`) of
+/// radius 1, if any. With the exact entry `part`: that cap is met whatever
+/// its rounded radius; the side entered, the cap facing the ray is not.
+#[allow(clippy::too_many_arguments)]
+fn cap<S: Scalar>(
+    o: Vec3<S>,
+    d: Vec3<S>,
+    (y_cap, code): (S, u8),
+    t_min: S,
+    t_max: S,
+    close: &mut bool,
+    part: Option<u8>,
+) -> Option<LocalHit<S>> {
+    let facing = (d.y > S::ZERO) == (code == LOW_CAP);
+    if d.y == S::ZERO || (part == Some(SIDE) && facing) {
         return None;
     }
     let t = y_cap.sub(o.y).div(d.y);
@@ -259,7 +272,7 @@ fn cap<S: Scalar>(o: Vec3<S>, d: Vec3<S>, y_cap: S, t_min: S, t_max: S, close: &
     let (x, z) = (o.x.add(d.x.mul(t)), o.z.add(d.z.mul(t)));
     let r2 = x.mul(x).add(z.mul(z));
     *close |= r2.sub(S::ONE).abs() < close_band::<S>().add(close_band());
-    if r2 > S::ONE {
+    if r2 > S::ONE && part != Some(code) {
         return None;
     }
     Some(LocalHit {
@@ -282,6 +295,10 @@ fn roots<S: Scalar>(a: S, b: S, c: S) -> Option<(S, S)> {
 }
 
 /// A root of the side surface, if its point lies within `-1 <= y <= 1`.
+/// With the exact entry `part`: the side entered, a root up to the band
+/// beyond an end counts (put on it); a cap entered, a root within the band
+/// of that cap's end does not.
+#[allow(clippy::too_many_arguments)]
 fn side_hit<S: Scalar>(
     o: Vec3<S>,
     d: Vec3<S>,
@@ -290,16 +307,25 @@ fn side_hit<S: Scalar>(
     t_max: S,
     close: &mut bool,
     normal: impl Fn(Vec3<S>) -> Vec3<S>,
+    part: Option<u8>,
 ) -> Option<LocalHit<S>> {
     if !inside(t, t_min, t_max) {
         return None;
     }
-    let p = o + d * t;
+    let mut p = o + d * t;
     // At a side's end (a cylinder's rim, a cone's apex or base rim).
-    *close |= S::ONE.sub(p.y.abs()).abs() < close_band();
-    if p.y < S::ONE.neg() || p.y > S::ONE {
+    let end = S::ONE.sub(p.y.abs()).abs() < close_band();
+    *close |= end;
+    let high = p.y > S::ZERO;
+    let limit = if part == Some(SIDE) && end {
+        S::ONE.add(close_band())
+    } else {
+        S::ONE
+    };
+    if p.y < limit.neg() || p.y > limit || (end && part == Some(if high { HIGH_CAP } else { LOW_CAP })) {
         return None;
     }
+    p.y = p.y.max(S::ONE.neg()).min(S::ONE);
     Some(LocalHit { t, p, n: normal(p) })
 }
 
@@ -308,7 +334,30 @@ fn negligible<S: Scalar>(a: S) -> bool {
     a.abs() < S::HIT_EPSILON.mul(S::from_q15(2048))
 }
 
-fn cylinder<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, close: &mut bool) -> Option<LocalHit<S>> {
+/// The side's roots, or where the exact `part` is the side and the rounded
+/// roots miss it (a grazing line), its tangent point `−b / a`.
+fn tangent<S: Scalar>(side: Option<(S, S)>, part: Option<u8>, a: S, b: S) -> Option<(S, S)> {
+    match side {
+        None if part == Some(SIDE) && a > S::ZERO => {
+            let t = b.neg().div(a);
+            Some((t, t))
+        }
+        side => side,
+    }
+}
+
+fn cylinder<S: Scalar>(
+    o: Vec3<S>,
+    d: Vec3<S>,
+    t_min: S,
+    t_max: S,
+    close: &mut bool,
+    exact: Option<(bool, u8)>,
+) -> Option<LocalHit<S>> {
+    let part = match exact {
+        Some((false, _)) => return None,
+        e => e.map(|e| e.1),
+    };
     // Side: (ox + t dx)² + (oz + t dz)² = 1.
     let a = d.x.mul(d.x).add(d.z.mul(d.z));
     let b = o.x.mul(d.x).add(o.z.mul(d.z));
@@ -323,15 +372,26 @@ fn cylinder<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, close: &mut b
             roots(a, b, c)
         }
     });
-    if let Some((t0, t1)) = side {
-        best =
-            side_hit(o, d, t0, t_min, t_max, close, normal).or_else(|| side_hit(o, d, t1, t_min, t_max, close, normal));
+    if let Some((t0, t1)) = tangent(side, part, a, b) {
+        best = side_hit(o, d, t0, t_min, t_max, close, normal, part)
+            .or_else(|| side_hit(o, d, t1, t_min, t_max, close, normal, part));
     }
-    best = nearer(best, cap(o, d, S::ONE, t_min, t_max, close));
-    nearer(best, cap(o, d, S::ONE.neg(), t_min, t_max, close))
+    best = nearer(best, cap(o, d, (S::ONE, HIGH_CAP), t_min, t_max, close, part));
+    nearer(best, cap(o, d, (S::ONE.neg(), LOW_CAP), t_min, t_max, close, part))
 }
 
-fn cone<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, close: &mut bool) -> Option<LocalHit<S>> {
+fn cone<S: Scalar>(
+    o: Vec3<S>,
+    d: Vec3<S>,
+    t_min: S,
+    t_max: S,
+    close: &mut bool,
+    exact: Option<(bool, u8)>,
+) -> Option<LocalHit<S>> {
+    let part = match exact {
+        Some((false, _)) => return None,
+        e => e.map(|e| e.1),
+    };
     // Side: x² + z² = ((1 - y) / 2)², with w = 1 - y falling by dy per unit t.
     let quarter = S::from_q15(8192);
     let w0 = S::ONE.sub(o.y);
@@ -350,26 +410,26 @@ fn cone<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S, close: &mut bool)
     let mut best = None;
     if let Some(side) = S::side_roots(o.to_array(), d.to_array(), true, close) {
         // Q16.16: exact coefficients and stable roots (a near-apex hit moved by 1 % of the size).
-        if let Some((t0, t1)) = side {
+        if let Some((t0, t1)) = tangent(side, part, a, b) {
             best = nearer(
-                side_hit(o, d, t0, t_min, t_max, close, normal),
-                side_hit(o, d, t1, t_min, t_max, close, normal),
+                side_hit(o, d, t0, t_min, t_max, close, normal, part),
+                side_hit(o, d, t1, t_min, t_max, close, normal, part),
             );
         }
     } else if negligible(a) {
         // Ray parallel to a line of the cone: one root, −c / 2b.
         if b != S::ZERO {
             let t = c.neg().div(b.add(b));
-            best = side_hit(o, d, t, t_min, t_max, close, normal);
+            best = side_hit(o, d, t, t_min, t_max, close, normal, part);
         }
     } else if let Some((t0, t1)) = roots(a, b, c) {
         // The lower root may lie on the upper nappe (y > 1): side_hit rejects it.
         best = nearer(
-            side_hit(o, d, t0, t_min, t_max, close, normal),
-            side_hit(o, d, t1, t_min, t_max, close, normal),
+            side_hit(o, d, t0, t_min, t_max, close, normal, part),
+            side_hit(o, d, t1, t_min, t_max, close, normal, part),
         );
     }
-    nearer(best, cap(o, d, S::ONE.neg(), t_min, t_max, close))
+    nearer(best, cap(o, d, (S::ONE.neg(), LOW_CAP), t_min, t_max, close, part))
 }
 
 impl crate::bytes::Field for Shape {
