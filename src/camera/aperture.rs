@@ -136,48 +136,6 @@ impl Aperture {
         ((r * rim_x) / 32768, (r * rim_y) / 32768)
     }
 
-    /// The square's point (`u`, `v`) (16-bit fractions) on the aperture by
-    /// the concentric map: squares about the centre go to rings, each side's
-    /// half to an eighth of a turn; area-preserving, strata stay compact.
-    pub fn map_concentric_q16(&self, u: u16, v: u16) -> (i32, i32) {
-        // Q0.16 offsets from the centre, odd: never 0.
-        let a = ((u as i32) << 1 | 1) - 65536;
-        let b = ((v as i32) << 1 | 1) - 65536;
-        let (ma, mb) = (a.unsigned_abs(), b.unsigned_abs());
-        // r in Q0.16; the angle in turns of 2^16, an eighth of a turn each half-side.
-        let (r, turn) = if ma >= mb {
-            let t = (8192 * mb / ma) as i32;
-            let t = if (a < 0) == (b < 0) { t } else { -t };
-            (ma, if a > 0 { t } else { 32768 + t })
-        } else {
-            let t = (8192 * ma / mb) as i32;
-            let t = if (a < 0) == (b < 0) { -t } else { t };
-            (mb, if b > 0 { 16384 + t } else { 49152 + t })
-        };
-        let turn = turn as u16;
-        let (rim_x, rim_y) = self.rim_q15(turn);
-        let r = r as i32;
-        ((r * rim_x) / 65536, (r * rim_y) / 65536)
-    }
-
-    /// The rim at `turn` (2^16 a full turn): the unit circle, or the polygon's
-    /// chord at the same share of its sides, Q1.15.
-    fn rim_q15(&self, v: u16) -> (i32, i32) {
-        if self.blades == 0 {
-            (sin_q15(v.wrapping_add(0x4000)), sin_q15(v))
-        } else {
-            let n = self.blades as u32;
-            let t = v as u32 * n;
-            let k = (t >> 16) as usize;
-            let f = ((t & 0xFFFF) >> 1) as i32;
-            let next = if k + 1 == n as usize { 0 } else { k + 1 };
-            let corner = |i: usize| self.corners.get(i).copied().unwrap_or_default();
-            let (a, b) = (corner(k), corner(next));
-            let lerp = |a: i16, b: i16| a as i32 + (((b as i32 - a as i32) * f) >> 15);
-            (lerp(a.0, b.0), lerp(a.1, b.1))
-        }
-    }
-
     /// Number of sides; 0 for round.
     pub fn blades(&self) -> u32 {
         self.blades as u32

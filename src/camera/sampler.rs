@@ -52,30 +52,6 @@ const SOBOL2: [u16; 16] = {
     v
 };
 
-/// Experiment switch (bit 0: nested scramble, bit 1: concentric map).
-#[doc(hidden)]
-pub static PATTERN: core::sync::atomic::AtomicU8 = core::sync::atomic::AtomicU8::new(0);
-
-/// `x`'s top [`NET_BITS`] bits, each flipped by a hash of the pixel's seed and
-/// the bits above it (a nested uniform scramble of the elementary intervals).
-#[inline]
-pub fn nested_scramble(x: u16, seed: u32) -> u16 {
-    let mut out = x;
-    // Heap index of the interval's node: 1 at the root, then 2 n + bit.
-    let mut node = 1u32;
-    let mut d = 0;
-    while d < NET_BITS {
-        let bit = 15 - d;
-        let mut h = (node ^ seed).wrapping_mul(0x9E37_79B9);
-        h ^= h >> 16;
-        h = h.wrapping_mul(0x85EB_CA6B);
-        out ^= ((h >> 31) as u16) << bit;
-        node = node << 1 | ((x >> bit) & 1) as u32;
-        d += 1;
-    }
-    out
-}
-
 /// Point `i` of the base-2 (0,2)-sequence, as two 16-bit fractions of 1.
 #[inline]
 pub fn sequence_point(i: u32) -> (u16, u16) {
@@ -141,13 +117,6 @@ impl PixelSamples {
                 // One draw jitters both coordinates below the net's bits.
                 let j = self.lfsr.next_u16();
                 let (ju, jv) = (j & !NET_MASK, (j >> (16 - NET_BITS)) & !NET_MASK);
-                if PATTERN.load(core::sync::atomic::Ordering::Relaxed) & 1 != 0 {
-                    let seed = (self.shift.0 as u32) << 16 | self.shift.1 as u32;
-                    return Some((
-                        (nested_scramble(u, seed) & NET_MASK) | ju,
-                        (nested_scramble(v, seed ^ 0x5bd1_e995) & NET_MASK) | jv,
-                    ));
-                }
                 Some((
                     ((u ^ self.shift.0) & NET_MASK) | ju,
                     ((v ^ self.shift.1) & NET_MASK) | jv,
@@ -160,9 +129,6 @@ impl PixelSamples {
     #[inline]
     pub fn next(&mut self, aperture: &Aperture) -> (i32, i32) {
         match self.next_unit() {
-            Some((u, v)) if PATTERN.load(core::sync::atomic::Ordering::Relaxed) & 2 != 0 => {
-                aperture.map_concentric_q16(u, v)
-            }
             Some((u, v)) => aperture.map_q16(u, v),
             None => {
                 self.index = self.index.wrapping_add(1);
