@@ -481,39 +481,3 @@ fn generated_lens_frames_stay_within_the_ray_budget_survey_included() {
     }
     assert!(judged >= 15, "only {judged} adaptive lens frames");
 }
-
-#[test]
-fn a_pixel_in_a_lamps_footprint_never_stops_at_its_pilot() {
-    // A lamp 300 times white out of focus on black: most of its footprint's
-    // pilots miss it (it reaches them through less of the lens than a
-    // stratum), agree on black and would stop. In the footprint a pixel goes
-    // on to the frame's cap (dithered to a power of two: where that is the
-    // pilot, the pilot); outside it, black pixels stop at the pilot; the
-    // frame keeps its budget.
-    for (lens, depth, x, blades) in [(2.25, 24, 0.0, 0), (1.5, 4, 0.3, 6)] {
-        let text = format!(
-            "width 4\nambient_light 1 1 1\nradius {lens}\npoint 256\naperture_blades {blades}\n\
-             object sphere\nKa 300 300 300\nKd 0 0 0\nscale 0.3 0.3 0.3\ntranslate {x} 0 -{depth}\n"
-        );
-        let scene = Scene::<I16F16>::parse(&text).unwrap();
-        let (w, h) = (48, 48);
-        let r = Renderer::new(&scene, w, h);
-        let (cap, _) = r.adaptive_cap();
-        let (pilot, risk_pilot) = (adaptive_pilot(256), adaptive_risk_pilot(256));
-        let (mut risky, mut quiet_stops) = (0, 0);
-        for row in 0..h {
-            for col in 0..w {
-                let n = r.pixel_rays(col, row).1;
-                if r.bright_footprints().at_risk(col, row) && dithered_cap(cap, col, row) > risk_pilot {
-                    risky += 1;
-                    assert!(n > risk_pilot, "lens {lens}: pixel ({col}, {row}) stopped at {n}, cap {cap}");
-                } else {
-                    quiet_stops += (n == pilot) as u32;
-                }
-            }
-        }
-        assert!(risky > 0 && quiet_stops > 0, "lens {lens}: {risky} at risk, {quiet_stops} stopped");
-        let rays = frame_rays(&r, w, h);
-        assert!(rays * 5 <= 2 * 256 * (w * h) as u64, "lens {lens}: {rays} rays");
-    }
-}

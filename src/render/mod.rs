@@ -48,9 +48,8 @@ pub struct Renderer<'a, S: Scalar> {
     pub(crate) survey_rays: u32,
     /// The mean spread (standard deviation of a sample, sixteenths of a
     /// level, summed over channels) of the survey's unsettled pixels at their
-    /// pilot outside lamps' footprints (those take the cap itself); 0 without
-    /// a survey. An unsettled pixel's share of the budget beyond its pilot
-    /// grows with its own spread over this one.
+    /// pilot; 0 without a survey. An unsettled pixel's share of the budget
+    /// beyond its pilot grows with its own spread over this one.
     pub(crate) spread: u32,
 }
 
@@ -362,7 +361,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         }
         #[cfg(test)]
         SURVEYS.with(|n| n.set(n.get() + 1));
-        let (mut settled_pilots, mut unsettled, mut rays, mut spreads, mut shared) = (0u64, 0u64, 0u64, 0u64, 0u64);
+        let (mut settled_pilots, mut unsettled, mut rays, mut spreads) = (0u64, 0u64, 0u64, 0u64);
         for (x, y) in grid(s) {
             let pilot = pilot(x, y);
             // Without a spread yet, the pixel stops at its pilot either way.
@@ -372,14 +371,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 settled_pilots += n as u64;
             } else {
                 unsettled += 1;
-                // Lamps' footprints take the cap itself: the mean is the others'.
-                if !self.bright.at_risk(x, y) {
-                    shared += 1;
-                    spreads += spread as u64;
-                }
+                spreads += spread as u64;
             }
         }
-        let seen = unsettled;
         // A margin of one binomial standard deviation of the count,
         // √(U (G − U) / G) rounded up, so that a frame with more unsettled
         // pixels than its survey saw stays within the budget.
@@ -396,9 +390,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             None => 0,
         };
         self.survey_rays = rays as u32;
-        // Over the spread-shared pixels' count with the same margin (U when all are).
-        let shared = (unsettled * shared).div_ceil(seen.max(1));
-        self.spread = spreads.div_ceil(shared.max(1)).min(u32::MAX as u64) as u32;
+        self.spread = spreads.div_ceil(unsettled.max(1)).min(u32::MAX as u64) as u32;
         self
     }
 
@@ -499,9 +491,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// mean is settled (see the scene format's "Adaptive lens sampling"), and
     /// stops there; else it goes on, up to its share of the frame's budget
     /// (the survey's cap C: its pilot P plus (C − P) times its samples'
-    /// spread over the survey's mean, dithered to a power of two). In a
-    /// lamp's footprint a pixel never stops at its pilot (the lamp may reach
-    /// it through less of the lens than a stratum, unseen) and its share is C. The
+    /// spread over the survey's mean, dithered to a power of two). The
     /// samples taken are the first ones of the full render. With the
     /// stratified sampler, a ray that meets a checker averages it over its
     /// stratum's footprint (see [`Defocus`]): one of `check` strata while the
@@ -584,19 +574,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 // Its share beyond the pilot: the frame's, times its spread
                 // over the survey's mean (samples ∝ the standard deviation:
                 // the least total variance for the rays).
-                // In a lamp's footprint a pilot may miss the lamp (it reaches
-                // through less of the lens than a stratum): no stop there, and
-                // the frame's cap, not a share by a spread that missed it.
-                spread = match stats.settled(n, self.samples) {
-                    Some(own) => own,
-                    None if risk && n == pilot => 1,
-                    None => {
-                        spread = 0;
-                        break;
-                    }
+                let Some(own) = stats.settled(n, self.samples) else {
+                    spread = 0;
+                    break;
                 };
-                let weight = if risk { self.spread } else { spread };
-                limit = self.share(most, pilot, weight, col, row);
+                spread = own;
+                limit = self.share(most, pilot, spread, col, row);
                 stats.double();
                 check = check.saturating_mul(2);
                 stratum = self.defocus.stratum(check.min(full));
