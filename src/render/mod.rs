@@ -734,7 +734,11 @@ mod survey_tests {
         let point = scene.camera.samples;
         let (r, n) = surveys_in(|| Renderer::new(&scene, 64, 48));
         assert_eq!(n, 1);
-        let (r, n) = surveys_in(|| r.with_samples(point).with_adaptive(true).with_sampler(Sampler::Stratified));
+        let (r, n) = surveys_in(|| {
+            r.with_samples(point)
+                .with_adaptive(true)
+                .with_sampler(Sampler::Stratified)
+        });
         assert_eq!((n, r.samples), (0, point));
         for samples in [Some(40), Some(point), None] {
             let (once, n) = surveys_in(|| Renderer::new_with_samples(&scene, 64, 48, samples));
