@@ -187,10 +187,7 @@ fn main() {
 fn bake<S: lensray::baked::BakeScalar>(text: &[u8], width: u32, height: u32, samples: Option<u32>) -> Vec<u8> {
     let scene =
         lensray::Scene::<S>::parse_bytes(text).unwrap_or_else(|e| fail(&format!("line {}: {}", e.line, e.kind)));
-    let mut renderer = lensray::Renderer::new(&scene, width, height);
-    if let Some(n) = samples {
-        renderer = renderer.with_samples(n);
-    }
+    let renderer = lensray::Renderer::new_with_samples(&scene, width, height, samples);
     let mut out = vec![0u8; lensray::baked::baked_len(&renderer)];
     lensray::baked::bake(&renderer, &mut out).unwrap_or_else(|e| fail(&format!("cannot bake the scene: {e}")));
     out

@@ -77,11 +77,7 @@ fn load(loaded: &mut Loaded, console: &mut HostFile) -> bool {
 /// The renderer of a loaded scene, with the build's sample override.
 #[cfg(feature = "parse-on-device")]
 fn renderer(loaded: &Loaded) -> Renderer<'_, Number> {
-    let r = Renderer::new(loaded, WIDTH, HEIGHT);
-    match SAMPLES {
-        Some(n) => r.with_samples(n),
-        None => r,
-    }
+    Renderer::new_with_samples(loaded, WIDTH, HEIGHT, SAMPLES)
 }
 
 /// The renderer of a loaded scene (size and samples were baked in), moving

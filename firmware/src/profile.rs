@@ -98,10 +98,7 @@ pub fn run<S: Scalar>(
     let ov = overhead(counter);
     let mut st = Stats::default();
     {
-        let mut renderer = Renderer::new(scene, cols, rows);
-        if let Some(n) = samples {
-            renderer = renderer.with_samples(n);
-        }
+        let renderer = Renderer::new_with_samples(scene, cols, rows, samples);
         let cam = renderer.camera();
         let rays = renderer.rays_per_pixel();
         for row in 0..rows {
@@ -174,10 +171,7 @@ pub fn run<S: Scalar>(
     with_lights[lights] = st.trace.ticks;
     for k in (0..lights).rev() {
         scene.truncate_lights(k);
-        let mut renderer = Renderer::new(scene, cols, rows);
-        if let Some(n) = samples {
-            renderer = renderer.with_samples(n);
-        }
+        let renderer = Renderer::new_with_samples(scene, cols, rows, samples);
         let cam = renderer.camera();
         let mut sum = 0;
         for row in 0..rows {

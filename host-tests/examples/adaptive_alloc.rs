@@ -47,13 +47,17 @@ fn main() {
     let (mut tot_d, mut tot_i) = (0.0, 0.0);
     for y in 0..h {
         for x in 0..w {
-            let n = r.pixel_rays(x, y).1;
+            let (_, n, spread) = r.pixel_rays_spread(x, y);
             let c = r.pixel(x, y);
             let (ed, ei) = (err(c, x, y), err(ri.pixel(x, y), x, y));
             tot_d += ed;
             tot_i += ei;
             let risk = r.bright_footprints().at_risk(x, y);
-            let k = if n == pilot { "pilot" } else { "on" };
+            let k = match (n == pilot, spread == 0) {
+                (false, _) => "on",
+                (true, true) => "settled at pilot",
+                (true, false) => "share at pilot",
+            };
             let s = class.entry((risk, k)).or_default();
             s.0 += 1;
             s.1 += ed;

@@ -46,10 +46,7 @@ pub fn render_image_counted<S: Scalar + Send + Sync>(
     samples: Option<u32>,
     on_row: &(dyn Fn() + Sync),
 ) -> (Image, u64) {
-    let mut renderer = Renderer::new(scene, width, height);
-    if let Some(n) = samples {
-        renderer = renderer.with_samples(n);
-    }
+    let renderer = Renderer::new_with_samples(scene, width, height, samples);
     // Rows straight into the image: no per-row allocation, no copy at the end.
     let mut pixels = vec![Rgb888::BLACK; width as usize * height as usize];
     let mut rays = 0;

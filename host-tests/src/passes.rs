@@ -26,10 +26,7 @@ pub fn render_passes<S: Scalar + Send + Sync>(
     preview_samples: u32,
     on_pass: &mut dyn FnMut(usize, &Pass, &Image),
 ) -> Image {
-    let mut renderer = Renderer::new(scene, width, height);
-    if let Some(n) = samples {
-        renderer = renderer.with_samples(n);
-    }
+    let renderer = Renderer::new_with_samples(scene, width, height, samples);
     let mut img = Image::filled(width, height, Rgb888::BLACK);
     for (i, pass) in Schedule::new(first_step, preview_samples, renderer.rays_per_pixel()).enumerate() {
         let step = pass.step.max(1);

@@ -285,6 +285,22 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     ///
     /// Never: any scene [`Scene::parse`] accepts and any size.
     pub fn new(scene: &'a Scene<S>, cols: u32, rows: u32) -> Self {
+        Self::unsurveyed(scene, cols, rows).surveyed()
+    }
+
+    /// [`Renderer::new`] with `samples` lens samples a pixel (clamped to
+    /// 1..=65535) in place of the scene's where given: the same renderer as
+    /// `Renderer::new(..).with_samples(n)`, with one set-up survey, not two.
+    pub fn new_with_samples(scene: &'a Scene<S>, cols: u32, rows: u32, samples: Option<u32>) -> Self {
+        let mut r = Self::unsurveyed(scene, cols, rows);
+        if let Some(n) = samples {
+            r.samples = n.clamp(1, 65535);
+        }
+        r.surveyed()
+    }
+
+    /// The renderer before its survey (see [`Renderer::surveyed`]).
+    fn unsurveyed(scene: &'a Scene<S>, cols: u32, rows: u32) -> Self {
         let camera = Camera::new(&scene.camera, cols, rows);
         Renderer {
             scene,
@@ -299,7 +315,6 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             survey_rays: 0,
             spread: 0,
         }
-        .surveyed()
     }
 
     /// Sets [`Renderer::cap`] from a survey of the frame: a grid of pixels
@@ -347,6 +362,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         if 5 * 5 * pilots > 4 * 2 * self.samples as u64 * count {
             return self;
         }
+        #[cfg(test)]
+        SURVEYS.with(|n| n.set(n.get() + 1));
         let (mut settled_pilots, mut unsettled, mut rays, mut spreads) = (0u64, 0u64, 0u64, 0u64);
         for (x, y) in grid(s) {
             let pilot = pilot(x, y);
@@ -386,26 +403,39 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         (self.cap, self.survey_rays)
     }
 
-    /// Overrides the lens samples per pixel (clamped to 1..=65535).
+    /// Overrides the lens samples per pixel (clamped to 1..=65535). The
+    /// survey runs again only if the count changes (a progressive pass at
+    /// the renderer's own count, band after band, costs none).
     ///
     /// # Panics
     ///
     /// Never.
     pub fn with_samples(mut self, samples: u32) -> Self {
-        self.samples = samples.clamp(1, 65535);
+        let samples = samples.clamp(1, 65535);
+        if samples == self.samples {
+            return self;
+        }
+        self.samples = samples;
         self.surveyed()
     }
 
     /// Turns adaptive lens sampling on or off (the scene's `adaptive`
-    /// statement sets the default; see [`Renderer::pixel_rays`]).
+    /// statement sets the default; see [`Renderer::pixel_rays`]); surveys
+    /// again only on a change.
     pub fn with_adaptive(mut self, adaptive: bool) -> Self {
+        if adaptive == self.adaptive {
+            return self;
+        }
         self.adaptive = adaptive;
         self.surveyed()
     }
 
     /// Chooses how lens points are drawn (the scene's `sampler` statement
-    /// sets the default).
+    /// sets the default); surveys again only on a change.
     pub fn with_sampler(mut self, sampler: Sampler) -> Self {
+        if sampler == self.sampler {
+            return self;
+        }
         self.sampler = sampler;
         self.surveyed()
     }
@@ -472,6 +502,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
         let (c, n, _) = self.pixel_rays_within(col, row, self.cap);
         (c, n)
+    }
+
+    /// [`Renderer::pixel_rays`] and the pixel's spread at its last check if
+    /// it was not settled there, else 0 (diagnosis).
+    #[doc(hidden)]
+    pub fn pixel_rays_spread(&self, col: u32, row: u32) -> (Vec3<S>, u32, u32) {
+        self.pixel_rays_within(col, row, self.cap)
     }
 
     /// [`Renderer::pixel_rays`] with a cap of `most` samples for an adaptive
@@ -672,6 +709,51 @@ pub(crate) fn addressable_area<S: Scalar, D: DrawTarget>(renderer: &Renderer<'_,
 /// How many coordinates from `start` up fit in an i32: `i32::MAX - start + 1`, capped.
 pub(crate) fn addressable(start: i32) -> u32 {
     u32::try_from(i32::MAX as i64 - start as i64 + 1).unwrap_or(u32::MAX)
+}
+
+#[cfg(test)]
+std::thread_local! {
+    /// Surveys that cast rays on this thread (tests: set-up work done once).
+    static SURVEYS: core::cell::Cell<u32> = const { core::cell::Cell::new(0) };
+}
+
+#[cfg(test)]
+mod survey_tests {
+    use super::*;
+    use crate::I16F16;
+
+    fn surveys_in<T>(f: impl FnOnce() -> T) -> (T, u32) {
+        let before = SURVEYS.with(|n| n.get());
+        let t = f();
+        (t, SURVEYS.with(|n| n.get()) - before)
+    }
+
+    /// A builder that changes nothing surveys nothing more, one that changes
+    /// the count surveys again, and `new_with_samples` surveys once for the
+    /// same renderer (cap, survey and pixels) as `new` then `with_samples`.
+    #[test]
+    fn the_survey_runs_once_a_setting() {
+        let scene = Scene::<I16F16>::parse(include_str!("../../scenes/paper-program1.scene")).unwrap();
+        let point = scene.camera.samples;
+        let (r, n) = surveys_in(|| Renderer::new(&scene, 64, 48));
+        assert_eq!(n, 1);
+        let (r, n) = surveys_in(|| {
+            r.with_samples(point)
+                .with_adaptive(true)
+                .with_sampler(Sampler::Stratified)
+        });
+        assert_eq!((n, r.samples), (0, point));
+        for samples in [Some(40), Some(point), None] {
+            let (once, n) = surveys_in(|| Renderer::new_with_samples(&scene, 64, 48, samples));
+            assert_eq!(n, 1);
+            let (twice, n) = surveys_in(|| Renderer::new(&scene, 64, 48).with_samples(samples.unwrap_or(point)));
+            assert_eq!(n, if samples == Some(40) { 2 } else { 1 });
+            assert_eq!(once.adaptive_cap(), twice.adaptive_cap());
+            for (x, y) in [(0, 0), (17, 23), (63, 47)] {
+                assert_eq!(once.pixel_rays(x, y), twice.pixel_rays(x, y));
+            }
+        }
+    }
 }
 
 #[cfg(test)]

@@ -151,7 +151,7 @@ fn main() -> ! {
     }
     let scene: &'static Scene<I16F16> = scene;
     // The image in the panel's top-left corner (all of it by default: 320×240).
-    let renderer = Renderer::new(scene, WIDTH, HEIGHT).with_samples(SAMPLES);
+    let renderer = Renderer::new_with_samples(scene, WIDTH, HEIGHT, Some(SAMPLES));
     // Coarse pass first, then refinements in place (see the module docs), cut
     // into bands that both cores take (two_cores.rs).
     let bands = bands::Bands::new(Schedule::new(8, 1, renderer.rays_per_pixel()), HEIGHT);

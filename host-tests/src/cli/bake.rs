@@ -61,10 +61,7 @@ fn bytes_of<S: BakeScalar>(scene_path: &Path, o: &BakeArgs) -> Result<Vec<u8>, F
     let mut scene = load_scene::<S>(scene_path)?;
     apply_to_scene(&o.sampling, &mut scene);
     let (w, h) = image_size(&o.size, DEFAULT_WIDTH, scene.camera.aspect_ratio)?;
-    let mut renderer = Renderer::new(&scene, w, h);
-    if let Some(n) = o.size.samples {
-        renderer = renderer.with_samples(n);
-    }
+    let renderer = Renderer::new_with_samples(&scene, w, h, o.size.samples);
     let mut bytes = vec![0u8; baked_len(&renderer)];
     bake(&renderer, &mut bytes)?;
     eprintln!(

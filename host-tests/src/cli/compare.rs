@@ -93,10 +93,7 @@ fn compare_scene(path: &Path, o: &opts::Size) -> Result<(Image, Image), Fail> {
     let fixed = load_scene::<I16F16>(path)?;
     let float = load_scene::<f32>(path)?;
     let (w, h) = image_size(o, DEFAULT_WIDTH, fixed.camera.aspect_ratio)?;
-    let mut probe = Renderer::new(&fixed, w, h);
-    if let Some(n) = o.samples {
-        probe = probe.with_samples(n);
-    }
+    let probe = Renderer::new_with_samples(&fixed, w, h, o.samples);
     say(format_args!(
         "{}: Q16.16 against f32, {w}x{h}, {} ray(s) a pixel",
         path.display(),

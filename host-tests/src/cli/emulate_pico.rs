@@ -41,10 +41,7 @@ pub(crate) fn run(o: &EmulateArgs, scene_path: &Path, soft_sqrt: bool, timeout: 
             PANEL.0, PANEL.1
         )));
     }
-    let mut renderer = Renderer::new(&scene, width, height);
-    if let Some(n) = o.size.samples {
-        renderer = renderer.with_samples(n);
-    }
+    let renderer = Renderer::new_with_samples(&scene, width, height, o.size.samples);
     let rays = renderer.rays_per_pixel();
     let out = match &o.out {
         Some(p) => p.clone(),
