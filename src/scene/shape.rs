@@ -346,6 +346,15 @@ fn tangent<S: Scalar>(side: Option<(S, S)>, part: Option<u8>, a: S, b: S) -> Opt
     }
 }
 
+/// The exact re-decision's part, if one was taken; `None` where it says the
+/// line misses the shape.
+fn exact_part(exact: Option<(bool, u8)>) -> Option<Option<u8>> {
+    match exact {
+        Some((false, _)) => None,
+        e => Some(e.map(|e| e.1)),
+    }
+}
+
 fn cylinder<S: Scalar>(
     o: Vec3<S>,
     d: Vec3<S>,
@@ -354,10 +363,7 @@ fn cylinder<S: Scalar>(
     close: &mut bool,
     exact: Option<(bool, u8)>,
 ) -> Option<LocalHit<S>> {
-    let part = match exact {
-        Some((false, _)) => return None,
-        e => e.map(|e| e.1),
-    };
+    let part = exact_part(exact)?;
     // Side: (ox + t dx)² + (oz + t dz)² = 1.
     let a = d.x.mul(d.x).add(d.z.mul(d.z));
     let b = o.x.mul(d.x).add(o.z.mul(d.z));
@@ -388,10 +394,7 @@ fn cone<S: Scalar>(
     close: &mut bool,
     exact: Option<(bool, u8)>,
 ) -> Option<LocalHit<S>> {
-    let part = match exact {
-        Some((false, _)) => return None,
-        e => e.map(|e| e.1),
-    };
+    let part = exact_part(exact)?;
     // Side: x² + z² = ((1 - y) / 2)², with w = 1 - y falling by dy per unit t.
     let quarter = S::from_q15(8192);
     let w0 = S::ONE.sub(o.y);
