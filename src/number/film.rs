@@ -153,13 +153,14 @@ impl FixedFilmMap {
     #[inline]
     pub fn ray_dir(&self, film: &[i64; 3], lens: (i32, i32)) -> (FixedDir, [I16F16; 3]) {
         // The direction exactly, at scale 2^-(s + g).
-        let (w, g) = if lens == (0, 0) {
-            (*film, self.f)
+        // A chief ray leaves from the eye itself: its bits below Q16.16 ride along.
+        let (w, g, o_lo) = if lens == (0, 0) {
+            (*film, self.f, self.eye_lo)
         } else {
             // Lens terms are exact at 2^-(s + 15): Q1.15 times the i32 parts.
             let up = 15 - self.f;
             let w = [0, 1, 2].map(|k| (film[k] << up) - mul_i32(lens.0, self.k_u[k]) - mul_i32(lens.1, self.k_v[k]));
-            (w, 15)
+            (w, 15, [0; 3])
         };
         // Below 2^31 at scale 2^-s; a direction far shorter than the film's
         // largest (a very tall or wide film) keeps more of its bits.
@@ -184,8 +185,6 @@ impl FixedFilmMap {
             return (zero, [I16F16::ZERO; 3]);
         };
         let rounded = m.map(|x| I16F16::from_bits(shr_round(x, 14) as i32));
-        // A chief ray leaves from the eye itself: its bits below Q16.16 ride along.
-        let o_lo = if lens == (0, 0) { self.eye_lo } else { [0; 3] };
         (
             FixedDir {
                 m,

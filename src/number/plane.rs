@@ -176,7 +176,11 @@ pub(crate) fn plane_hit(
     // scale 2^-(16 + shift), cut to 32 bits (2^-32 relative): oz rounded to
     // Q16.16 moved a grazing hit by 2^-17 / (row_z · D), 1e-3 at 33 (seed
     // 3162: the seam of two planes a pixel off).
-    let z = rows[2].exact(o, true) + origin_low(&rows[2], &d.o_lo);
+    let mut z = rows[2].exact(o, true);
+    // An origin on the Q16.16 grid (every ray but a chief ray from an eye off it) has nothing below.
+    if d.o_lo != [0; 3] {
+        z += origin_low(&rows[2], &d.o_lo);
+    }
     // Most origins fit 32 bits: no bit count then (a binary search on the M0).
     let (oz, k) = if z.unsigned_abs() >> 32 == 0 {
         (z, 0)
