@@ -86,6 +86,17 @@ fn round_f64(x: f64) -> f64 {
     }
 }
 
+/// What rounding `x` to Q16.16 (as `Scalar::from_f64`) leaves, at 2^-32; 0
+/// out of range (set-up only).
+pub(crate) fn below_q16(x: f64) -> i16 {
+    let q = libm::floor(x * 65536.0 + 0.5);
+    if libm::fabs(q) < (1u64 << 31) as f64 {
+        round_f64((x * 65536.0 - q) * 65536.0).clamp(-32767.0, 32767.0) as i16
+    } else {
+        0
+    }
+}
+
 impl FixedFilmMap {
     /// Chooses the scales and rounds the parts. Set-up only.
     pub fn new(d: &FilmMapDesc) -> FixedFilmMap {
@@ -130,14 +141,7 @@ impl FixedFilmMap {
             k_v: d.k_v.map(|x| scale(x, s) as i32),
             f,
             // What rounding to Q16.16 (as `Scalar::from_f64`) leaves, at 2^-32; 0 out of range.
-            eye_lo: d.eye.map(|x| {
-                let q = libm::floor(x * 65536.0 + 0.5);
-                if libm::fabs(q) < (1u64 << 31) as f64 {
-                    round_f64((x * 65536.0 - q) * 65536.0).clamp(-32767.0, 32767.0) as i16
-                } else {
-                    0
-                }
-            }),
+            eye_lo: d.eye.map(below_q16),
         }
     }
 

@@ -469,8 +469,12 @@ impl Kernels for I16F16 {
         t_min: Self,
         t_max: Self,
         checker: (Self, Self),
+        eye: Option<[Self; 4]>,
     ) -> Option<(Self, Self, Self)> {
-        crate::number::plane::plane_hit(rows, o, d, t_min, t_max, checker)
+        crate::number::plane::plane_hit(rows, o, d, t_min, t_max, checker, eye)
+    }
+    fn plane_from_eye(rows: &[FixedRow; 3], eye: [f64; 3]) -> Option<[Self; 4]> {
+        Some(crate::number::plane::plane_from_eye(rows, eye))
     }
     fn side_roots(o: [Self; 3], d: [Self; 3], cone: bool, close: &mut bool) -> Option<Option<(Self, Self)>> {
         // The exact sums fit an i64 for object-space values below 4096; only

@@ -165,6 +165,7 @@ pub(crate) fn plane_hit(
     t_min: I16F16,
     t_max: I16F16,
     checker: (I16F16, I16F16),
+    eye: Option<[I16F16; 4]>,
 ) -> Option<(I16F16, I16F16, I16F16)> {
     let d = if d.unit && d.e == -30 { d } else { to_unit(d)? };
     // How fast the object's z changes per unit of world distance.
@@ -176,11 +177,11 @@ pub(crate) fn plane_hit(
     // scale 2^-(16 + shift), cut to 32 bits (2^-32 relative): oz rounded to
     // Q16.16 moved a grazing hit by 2^-17 / (row_z · D), 1e-3 at 33 (seed
     // 3162: the seam of two planes a pixel off).
-    let mut z = rows[2].exact(o, true);
-    // An origin on the Q16.16 grid (every ray but a chief ray from an eye off it) has nothing below.
-    if d.o_lo != [0; 3] {
-        z += origin_low(&rows[2], &d.o_lo);
-    }
+    let z = match eye {
+        // A chief ray: the same origin terms for every pixel, from set-up.
+        Some(e) => ((e[3].to_bits() as i64) << 32) | e[2].to_bits() as u32 as i64,
+        None => origin_z(rows, o, &d.o_lo),
+    };
     // Most origins fit 32 bits: no bit count then (a binary search on the M0).
     let (oz, k) = if z.unsigned_abs() >> 32 == 0 {
         (z, 0)
@@ -203,10 +204,43 @@ pub(crate) fn plane_hit(
     }
     // Object-space x and y: o + t (row · D).
     let along = |i: usize| {
-        let start = rows[i].apply(o, true).to_bits() as i64;
+        let start = match eye {
+            Some(e) => e[i],
+            None => rows[i].apply(o, true),
+        }
+        .to_bits() as i64;
         q16(start + scaled(t, dot(&rows[i], &d.m), 30 + rows[i].shift))
     };
     Some((q16(t), along(0), along(1)))
+}
+
+/// The origin's exact object-space z at the row's scale 2^-(16 + shift),
+/// with its bits below Q16.16 where it has any.
+#[inline]
+fn origin_z(rows: &[FixedRow; 3], o: [I16F16; 3], o_lo: &[i16; 3]) -> i64 {
+    let z = rows[2].exact(o, true);
+    // An origin on the Q16.16 grid (every ray but a chief ray from an eye off it) has nothing below.
+    if *o_lo != [0; 3] {
+        z + origin_low(&rows[2], o_lo)
+    } else {
+        z
+    }
+}
+
+/// [`plane_hit`]'s terms of a pinhole's chief rays that depend on the eye
+/// alone: `rows[0]` and `rows[1]` applied to it (Q16.16) and its exact z
+/// (`origin_z`, low word then high word), from the eye rounded as the
+/// camera rounds it and its bits below. Set-up only.
+pub(crate) fn plane_from_eye(rows: &[FixedRow; 3], eye: [f64; 3]) -> [I16F16; 4] {
+    use crate::number::Scalar;
+    let o = eye.map(I16F16::from_f64);
+    let z = origin_z(rows, o, &eye.map(crate::number::film::below_q16));
+    [
+        rows[0].apply(o, true),
+        rows[1].apply(o, true),
+        I16F16::from_bits(z as i32),
+        I16F16::from_bits((z >> 32) as i32),
+    ]
 }
 
 /// `row · o_lo` (the origin's bits below Q16.16, at 2^-32) at the row's exact
@@ -361,7 +395,8 @@ mod tests {
                 unit: true,
                 o_lo: [0; 3],
             };
-            let Some((_, x, y)) = plane_hit(&rows, o, d, I16F16::from_bits(64), I16F16::MAX, (side, scale)) else {
+            let Some((_, x, y)) = plane_hit(&rows, o, d, I16F16::from_bits(64), I16F16::MAX, (side, scale), None)
+            else {
                 continue;
             };
             // The same hit in f64 from the kernel's inputs: the row products
@@ -437,6 +472,7 @@ mod tests {
                 I16F16::from_bits(64),
                 I16F16::MAX,
                 (I16F16::ZERO, I16F16::ZERO),
+                None,
             )
             .expect("a hit");
             let err = (t.to_f64() - want).abs();

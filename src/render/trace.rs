@@ -46,7 +46,12 @@ impl<S: Scalar> Scene<S> {
                 }
             }
             let t_max = best.map_or(S::MAX, |(_, h)| h.t);
-            if let Some(h) = obj.intersect_dir(o, d, precise, t_min, t_max) {
+            // Cones come with camera rays only: from the eye where the camera is a pinhole.
+            let eye = match cones {
+                Some(c) if obj.shape == Shape::Plane => c.plane_from_eye(i),
+                _ => None,
+            };
+            if let Some(h) = obj.intersect_from(o, d, precise, t_min, t_max, eye) {
                 best = Some((i, h));
             }
         }
