@@ -7,7 +7,7 @@
 //! chosen at set-up, so that a ray's direction costs six small products, one
 //! square root and one reciprocal, and comes out a unit vector to 30 bits.
 
-use crate::number::plane::unit_mantissas;
+use crate::number::plane::{below_q16, round_f64, unit_mantissas};
 use crate::number::q16::{shr_round, shr_round_call, FixedDir};
 use crate::number::wide::{bits_u64_inline, mul_i32};
 use fixed::types::I16F16;
@@ -73,27 +73,6 @@ impl FixedFilmMap {
                 (d.unsigned_abs() >> self.f) + lens < 1 << 31
             })
         })
-    }
-}
-
-/// Rounds `x` to the nearest integer, away from zero on ties. Set-up only.
-fn round_f64(x: f64) -> f64 {
-    let r = libm::floor(libm::fabs(x) + 0.5);
-    if x < 0.0 {
-        -r
-    } else {
-        r
-    }
-}
-
-/// What rounding `x` to Q16.16 (as `Scalar::from_f64`) leaves, at 2^-32; 0
-/// out of range (set-up only).
-pub(crate) fn below_q16(x: f64) -> i16 {
-    let q = libm::floor(x * 65536.0 + 0.5);
-    if libm::fabs(q) < (1u64 << 31) as f64 {
-        round_f64((x * 65536.0 - q) * 65536.0).clamp(-32767.0, 32767.0) as i16
-    } else {
-        0
     }
 }
 

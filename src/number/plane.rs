@@ -227,14 +227,33 @@ fn origin_z(rows: &[FixedRow; 3], o: [I16F16; 3], o_lo: &[i16; 3]) -> i64 {
     }
 }
 
+/// Rounds `x` to the nearest integer, away from zero on ties. Set-up only.
+pub(crate) fn round_f64(x: f64) -> f64 {
+    let r = libm::floor(libm::fabs(x) + 0.5);
+    if x < 0.0 {
+        -r
+    } else {
+        r
+    }
+}
+
+/// What rounding `x` to Q16.16 (as `Scalar::from_f64`) leaves, at 2^-32; 0
+/// out of range (set-up only).
+pub(crate) fn below_q16(x: f64) -> i16 {
+    let q = libm::floor(x * 65536.0 + 0.5);
+    if libm::fabs(q) < (1u64 << 31) as f64 {
+        round_f64((x * 65536.0 - q) * 65536.0).clamp(-32767.0, 32767.0) as i16
+    } else {
+        0
+    }
+}
+
 /// [`plane_hit`]'s terms of a pinhole's chief rays that depend on the eye
 /// alone: `rows[0]` and `rows[1]` applied to it (Q16.16) and its exact z
-/// (`origin_z`, low word then high word), from the eye rounded as the
-/// camera rounds it and its bits below. Set-up only.
-pub(crate) fn plane_from_eye(rows: &[FixedRow; 3], eye: [f64; 3]) -> [I16F16; 4] {
-    use crate::number::Scalar;
-    let o = eye.map(I16F16::from_f64);
-    let z = origin_z(rows, o, &eye.map(crate::number::film::below_q16));
+/// (`origin_z`, low word then high word), from the eye `o` and its bits
+/// below, `o_lo`. Set-up only.
+pub(crate) fn plane_from_eye(rows: &[FixedRow; 3], o: [I16F16; 3], o_lo: [i16; 3]) -> [I16F16; 4] {
+    let z = origin_z(rows, o, &o_lo);
     [
         rows[0].apply(o, true),
         rows[1].apply(o, true),
