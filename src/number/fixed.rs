@@ -475,7 +475,10 @@ impl Kernels for I16F16 {
     }
     fn plane_from_eye(rows: &[FixedRow; 3], eye: [f64; 3]) -> Option<[Self; 4]> {
         // The eye rounded as the camera rounds it, and its bits below as the film map holds them.
-        let (o, lo) = (eye.map(<Self as Scalar>::from_f64), eye.map(crate::number::plane::below_q16));
+        let (o, lo) = (
+            eye.map(<Self as Scalar>::from_f64),
+            eye.map(crate::number::plane::below_q16),
+        );
         Some(crate::number::plane::plane_from_eye(rows, o, lo))
     }
     fn side_roots(o: [Self; 3], d: [Self; 3], cone: bool, close: &mut bool) -> Option<Option<(Self, Self)>> {

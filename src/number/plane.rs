@@ -380,6 +380,53 @@ mod tests {
         }
     }
 
+    /// A chief ray's plane hit from the eye terms of set-up
+    /// ([`plane_from_eye`]) is the hit computed from the eye itself, bit for
+    /// bit: random planes, eyes off the Q16.16 grid (and on it), directions.
+    #[test]
+    fn eye_terms_from_set_up_give_the_same_hit() {
+        let mut next = crate::test_rng::unit_f64(0x0E7E_7E2D);
+        let mut hits = 0;
+        for n in 0..20_000 {
+            let to_world = Mat34::translate([0, 1, 2].map(|_| next() * 60.0 - 30.0))
+                .after(&Mat34::rotate(1, next() * 360.0))
+                .after(&Mat34::rotate(0, next() * 360.0))
+                .after(&Mat34::scale([
+                    0.2 + next() * 5.0,
+                    0.2 + next() * 5.0,
+                    0.2 + next() * 5.0,
+                ]));
+            let rows = to_world.inverse().unwrap().0.map(<I16F16 as Kernels>::row_from_f64);
+            let eye = [0, 1, 2].map(|_| {
+                let x = next() * 200.0 - 100.0;
+                if n % 4 == 0 {
+                    libm::round(x)
+                } else {
+                    x
+                }
+            });
+            let (o, o_lo) = (eye.map(I16F16::from_f64), eye.map(below_q16));
+            let v = [0, 1, 2].map(|_| next() * 2.0 - 1.0);
+            let l = libm::sqrt(v.iter().map(|x| x * x).sum());
+            let d = FixedDir {
+                m: v.map(|x| libm::round(x / l * (1u64 << 30) as f64) as i64),
+                e: -30,
+                unit: true,
+                o_lo,
+            };
+            let checker = (I16F16::from_f64(0.5), <I16F16 as Kernels>::checker_scale(0.5));
+            let from = |eye| plane_hit(&rows, o, d, I16F16::from_bits(64), I16F16::MAX, checker, eye);
+            let want = from(None);
+            hits += want.is_some() as u32;
+            assert_eq!(
+                from(Some(plane_from_eye(&rows, o, o_lo))),
+                want,
+                "eye {eye:?} dir {v:?}"
+            );
+        }
+        assert!(hits > 5_000, "{hits} hits");
+    }
+
     /// A checkered plane's hits beyond Q16.16's range keep their true square:
     /// the parity of [`plane_hit`]'s (x, y) under `Kernels::checker_cell`
     /// against the parity of the same hit computed in f64 from the kernel's
