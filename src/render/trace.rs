@@ -23,7 +23,8 @@ impl<S: Scalar> Scene<S> {
 
     /// The nearest object hit by a camera ray (which leaves the lens: see
     /// [`LensCones`]): [`Scene::closest_hit_dir`] with the objects out of the
-    /// ray's reach skipped.
+    /// ray's reach skipped. `cones` are the camera's own: a pinhole's hold
+    /// its planes' terms for rays from its eye.
     pub fn closest_hit_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Option<(usize, Hit<S>)> {
         self.closest_hit_culled(ray.origin, ray.dir, ray.precise, S::HIT_EPSILON, Some(cones))
     }
@@ -93,7 +94,8 @@ impl<S: Scalar> Scene<S> {
 
     /// The colour seen along a camera ray (which leaves the lens: see
     /// [`LensCones`]), unclamped: [`Scene::trace_dir`] with the objects out
-    /// of the ray's reach skipped.
+    /// of the ray's reach skipped. `cones` are the camera's own: a pinhole's
+    /// hold its planes' terms for rays from its eye.
     pub fn trace_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Vec3<S> {
         self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones), None)
     }
