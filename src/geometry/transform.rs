@@ -182,8 +182,21 @@ impl<S: Scalar> Affine<S> {
     /// `Kernels::plane_hit`), for `t_min < t < t_max`, with its texture's
     /// (side, scale) for hits beyond the range.
     #[inline]
-    pub fn plane_hit(&self, o: Vec3<S>, d: S::Dir, t_min: S, t_max: S, checker: (S, S)) -> Option<(S, S, S)> {
-        S::plane_hit(&self.rows, o.to_array(), d, t_min, t_max, checker)
+    pub fn plane_hit(
+        &self,
+        o: Vec3<S>,
+        d: S::Dir,
+        t_min: S,
+        t_max: S,
+        checker: (S, S),
+        eye: Option<[S; 4]>,
+    ) -> Option<(S, S, S)> {
+        S::plane_hit(&self.rows, o.to_array(), d, t_min, t_max, checker, eye)
+    }
+
+    /// `Kernels::plane_from_eye` of this object's rows. Set-up only.
+    pub(crate) fn plane_from_eye(&self, eye: [f64; 3]) -> Option<[S; 4]> {
+        S::plane_from_eye(&self.rows, eye)
     }
 
     /// The object-space point of the world ray `o + s d` (`d` held

@@ -7,7 +7,7 @@
 //! chosen at set-up, so that a ray's direction costs six small products, one
 //! square root and one reciprocal, and comes out a unit vector to 30 bits.
 
-use crate::number::plane::unit_mantissas;
+use crate::number::plane::{below_q16, round_f64, unit_mantissas};
 use crate::number::q16::{shr_round, shr_round_call, FixedDir};
 use crate::number::wide::{bits_u64_inline, mul_i32};
 use fixed::types::I16F16;
@@ -76,16 +76,6 @@ impl FixedFilmMap {
     }
 }
 
-/// Rounds `x` to the nearest integer, away from zero on ties. Set-up only.
-fn round_f64(x: f64) -> f64 {
-    let r = libm::floor(libm::fabs(x) + 0.5);
-    if x < 0.0 {
-        -r
-    } else {
-        r
-    }
-}
-
 impl FixedFilmMap {
     /// Chooses the scales and rounds the parts. Set-up only.
     pub fn new(d: &FilmMapDesc) -> FixedFilmMap {
@@ -130,14 +120,7 @@ impl FixedFilmMap {
             k_v: d.k_v.map(|x| scale(x, s) as i32),
             f,
             // What rounding to Q16.16 (as `Scalar::from_f64`) leaves, at 2^-32; 0 out of range.
-            eye_lo: d.eye.map(|x| {
-                let q = libm::floor(x * 65536.0 + 0.5);
-                if libm::fabs(q) < (1u64 << 31) as f64 {
-                    round_f64((x * 65536.0 - q) * 65536.0).clamp(-32767.0, 32767.0) as i16
-                } else {
-                    0
-                }
-            }),
+            eye_lo: d.eye.map(below_q16),
         }
     }
 
@@ -153,13 +136,14 @@ impl FixedFilmMap {
     #[inline]
     pub fn ray_dir(&self, film: &[i64; 3], lens: (i32, i32)) -> (FixedDir, [I16F16; 3]) {
         // The direction exactly, at scale 2^-(s + g).
-        let (w, g) = if lens == (0, 0) {
-            (*film, self.f)
+        // A chief ray leaves from the eye itself: its bits below Q16.16 ride along.
+        let (w, g, o_lo) = if lens == (0, 0) {
+            (*film, self.f, self.eye_lo)
         } else {
             // Lens terms are exact at 2^-(s + 15): Q1.15 times the i32 parts.
             let up = 15 - self.f;
             let w = [0, 1, 2].map(|k| (film[k] << up) - mul_i32(lens.0, self.k_u[k]) - mul_i32(lens.1, self.k_v[k]));
-            (w, 15)
+            (w, 15, [0; 3])
         };
         // Below 2^31 at scale 2^-s; a direction far shorter than the film's
         // largest (a very tall or wide film) keeps more of its bits.
@@ -184,8 +168,6 @@ impl FixedFilmMap {
             return (zero, [I16F16::ZERO; 3]);
         };
         let rounded = m.map(|x| I16F16::from_bits(shr_round(x, 14) as i32));
-        // A chief ray leaves from the eye itself: its bits below Q16.16 ride along.
-        let o_lo = if lens == (0, 0) { self.eye_lo } else { [0; 3] };
         (
             FixedDir {
                 m,

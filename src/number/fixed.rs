@@ -240,7 +240,7 @@ fn unit_of_exact(mut d: FixedDir) -> ([I16F16; 3], I16F16, I16F16) {
     let cut = bits_u64(d.m.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0)).saturating_sub(21);
     if cut > 0 {
         d.m = d.m.map(|x| ((x >> (cut - 1)) + 1) >> 1);
-        d.e += cut as i32;
+        d.e += cut as i8;
     }
     let l = d.length();
     if l == 0 {
@@ -254,7 +254,7 @@ fn unit_of_exact(mut d: FixedDir) -> ([I16F16; 3], I16F16, I16F16) {
         I16F16::from_bits(sat32(if c < 0 { -q } else { q }))
     });
     // The product's value is x · 2^(e - 16): |M v| is l · 2^e in Q16.16 bits.
-    let e = d.e;
+    let e = d.e as i32;
     let shifted = |x: u64, s: i32| -> u64 {
         if s >= 0 {
             if s >= 32 || x >> (63 - s) != 0 {
@@ -428,11 +428,11 @@ impl Kernels for I16F16 {
     fn rows_apply_dir(rows: &[FixedRow; 3], d: &FixedDir) -> Option<([Self; 3], Self, Self)> {
         // Mantissas at 2^e are Q16.16 bits at 2^(e + 16).
         d.unit
-            .then(|| unit_of_exact(FixedDir::exact_rows(rows, d.m, false, d.e + 16)))
+            .then(|| unit_of_exact(FixedDir::exact_rows(rows, d.m, false, d.e as i32 + 16)))
     }
     fn along_dir(o: [Self; 3], d: &FixedDir, t: Self) -> Option<[Self; 3]> {
         // D t in Q16.16 bits is m t 2^e: 31-bit factors, one rounding.
-        let s = -d.e;
+        let s = -(d.e as i32);
         if !d.unit || !(1..62).contains(&s) {
             return None;
         }
@@ -469,8 +469,17 @@ impl Kernels for I16F16 {
         t_min: Self,
         t_max: Self,
         checker: (Self, Self),
+        eye: Option<[Self; 4]>,
     ) -> Option<(Self, Self, Self)> {
-        crate::number::plane::plane_hit(rows, o, d, t_min, t_max, checker)
+        crate::number::plane::plane_hit(rows, o, d, t_min, t_max, checker, eye)
+    }
+    fn plane_from_eye(rows: &[FixedRow; 3], eye: [f64; 3]) -> Option<[Self; 4]> {
+        // The eye rounded as the camera rounds it, and its bits below as the film map holds them.
+        let (o, lo) = (
+            eye.map(<Self as Scalar>::from_f64),
+            eye.map(crate::number::plane::below_q16),
+        );
+        Some(crate::number::plane::plane_from_eye(rows, o, lo))
     }
     fn side_roots(o: [Self; 3], d: [Self; 3], cone: bool, close: &mut bool) -> Option<Option<(Self, Self)>> {
         // The exact sums fit an i64 for object-space values below 4096; only

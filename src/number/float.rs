@@ -200,6 +200,7 @@ impl Kernels for f32 {
         t_min: Self,
         t_max: Self,
         _checker: (Self, Self),
+        _eye: Option<[Self; 4]>,
     ) -> Option<(Self, Self, Self)> {
         // f32 holds far coordinates itself (its images stay as they were).
         plane_hit_f32(rows, o, d, t_min, t_max)

@@ -165,6 +165,7 @@ pub(crate) fn plane_hit(
     t_min: I16F16,
     t_max: I16F16,
     checker: (I16F16, I16F16),
+    eye: Option<[I16F16; 4]>,
 ) -> Option<(I16F16, I16F16, I16F16)> {
     let d = if d.unit && d.e == -30 { d } else { to_unit(d)? };
     // How fast the object's z changes per unit of world distance.
@@ -176,7 +177,11 @@ pub(crate) fn plane_hit(
     // scale 2^-(16 + shift), cut to 32 bits (2^-32 relative): oz rounded to
     // Q16.16 moved a grazing hit by 2^-17 / (row_z · D), 1e-3 at 33 (seed
     // 3162: the seam of two planes a pixel off).
-    let z = rows[2].exact(o, true) + origin_low(&rows[2], &d.o_lo);
+    let z = match eye {
+        // A chief ray: the same origin terms for every pixel, from set-up.
+        Some(e) => ((e[3].to_bits() as i64) << 32) | e[2].to_bits() as u32 as i64,
+        None => origin_z(rows, o, &d.o_lo),
+    };
     // Most origins fit 32 bits: no bit count then (a binary search on the M0).
     let (oz, k) = if z.unsigned_abs() >> 32 == 0 {
         (z, 0)
@@ -199,10 +204,62 @@ pub(crate) fn plane_hit(
     }
     // Object-space x and y: o + t (row · D).
     let along = |i: usize| {
-        let start = rows[i].apply(o, true).to_bits() as i64;
+        let start = match eye {
+            Some(e) => e[i],
+            None => rows[i].apply(o, true),
+        }
+        .to_bits() as i64;
         q16(start + scaled(t, dot(&rows[i], &d.m), 30 + rows[i].shift))
     };
     Some((q16(t), along(0), along(1)))
+}
+
+/// The origin's exact object-space z at the row's scale 2^-(16 + shift),
+/// with its bits below Q16.16 where it has any.
+#[inline]
+fn origin_z(rows: &[FixedRow; 3], o: [I16F16; 3], o_lo: &[i16; 3]) -> i64 {
+    let z = rows[2].exact(o, true);
+    // An origin on the Q16.16 grid (every ray but a chief ray from an eye off it) has nothing below.
+    if *o_lo != [0; 3] {
+        z + origin_low(&rows[2], o_lo)
+    } else {
+        z
+    }
+}
+
+/// Rounds `x` to the nearest integer, away from zero on ties. Set-up only.
+pub(crate) fn round_f64(x: f64) -> f64 {
+    let r = libm::floor(libm::fabs(x) + 0.5);
+    if x < 0.0 {
+        -r
+    } else {
+        r
+    }
+}
+
+/// What rounding `x` to Q16.16 (as `Scalar::from_f64`) leaves, at 2^-32; 0
+/// out of range (set-up only).
+pub(crate) fn below_q16(x: f64) -> i16 {
+    let q = libm::floor(x * 65536.0 + 0.5);
+    if libm::fabs(q) < (1u64 << 31) as f64 {
+        round_f64((x * 65536.0 - q) * 65536.0).clamp(-32767.0, 32767.0) as i16
+    } else {
+        0
+    }
+}
+
+/// [`plane_hit`]'s terms of a pinhole's chief rays that depend on the eye
+/// alone: `rows[0]` and `rows[1]` applied to it (Q16.16) and its exact z
+/// (`origin_z`, low word then high word), from the eye `o` and its bits
+/// below, `o_lo`. Set-up only.
+pub(crate) fn plane_from_eye(rows: &[FixedRow; 3], o: [I16F16; 3], o_lo: [i16; 3]) -> [I16F16; 4] {
+    let z = origin_z(rows, o, &o_lo);
+    [
+        rows[0].apply(o, true),
+        rows[1].apply(o, true),
+        I16F16::from_bits(z as i32),
+        I16F16::from_bits((z >> 32) as i32),
+    ]
 }
 
 /// `row · o_lo` (the origin's bits below Q16.16, at 2^-32) at the row's exact
@@ -323,6 +380,53 @@ mod tests {
         }
     }
 
+    /// A chief ray's plane hit from the eye terms of set-up
+    /// ([`plane_from_eye`]) is the hit computed from the eye itself, bit for
+    /// bit: random planes, eyes off the Q16.16 grid (and on it), directions.
+    #[test]
+    fn eye_terms_from_set_up_give_the_same_hit() {
+        let mut next = crate::test_rng::unit_f64(0x0E7E_7E2D);
+        let mut hits = 0;
+        for n in 0..20_000 {
+            let to_world = Mat34::translate([0, 1, 2].map(|_| next() * 60.0 - 30.0))
+                .after(&Mat34::rotate(1, next() * 360.0))
+                .after(&Mat34::rotate(0, next() * 360.0))
+                .after(&Mat34::scale([
+                    0.2 + next() * 5.0,
+                    0.2 + next() * 5.0,
+                    0.2 + next() * 5.0,
+                ]));
+            let rows = to_world.inverse().unwrap().0.map(<I16F16 as Kernels>::row_from_f64);
+            let eye = [0, 1, 2].map(|_| {
+                let x = next() * 200.0 - 100.0;
+                if n % 4 == 0 {
+                    libm::round(x)
+                } else {
+                    x
+                }
+            });
+            let (o, o_lo) = (eye.map(I16F16::from_f64), eye.map(below_q16));
+            let v = [0, 1, 2].map(|_| next() * 2.0 - 1.0);
+            let l = libm::sqrt(v.iter().map(|x| x * x).sum());
+            let d = FixedDir {
+                m: v.map(|x| libm::round(x / l * (1u64 << 30) as f64) as i64),
+                e: -30,
+                unit: true,
+                o_lo,
+            };
+            let checker = (I16F16::from_f64(0.5), <I16F16 as Kernels>::checker_scale(0.5));
+            let from = |eye| plane_hit(&rows, o, d, I16F16::from_bits(64), I16F16::MAX, checker, eye);
+            let want = from(None);
+            hits += want.is_some() as u32;
+            assert_eq!(
+                from(Some(plane_from_eye(&rows, o, o_lo))),
+                want,
+                "eye {eye:?} dir {v:?}"
+            );
+        }
+        assert!(hits > 5_000, "{hits} hits");
+    }
+
     /// A checkered plane's hits beyond Q16.16's range keep their true square:
     /// the parity of [`plane_hit`]'s (x, y) under `Kernels::checker_cell`
     /// against the parity of the same hit computed in f64 from the kernel's
@@ -357,7 +461,8 @@ mod tests {
                 unit: true,
                 o_lo: [0; 3],
             };
-            let Some((_, x, y)) = plane_hit(&rows, o, d, I16F16::from_bits(64), I16F16::MAX, (side, scale)) else {
+            let Some((_, x, y)) = plane_hit(&rows, o, d, I16F16::from_bits(64), I16F16::MAX, (side, scale), None)
+            else {
                 continue;
             };
             // The same hit in f64 from the kernel's inputs: the row products
@@ -433,6 +538,7 @@ mod tests {
                 I16F16::from_bits(64),
                 I16F16::MAX,
                 (I16F16::ZERO, I16F16::ZERO),
+                None,
             )
             .expect("a hit");
             let err = (t.to_f64() - want).abs();

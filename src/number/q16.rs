@@ -54,7 +54,7 @@ impl FixedRow {
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct FixedDir {
     pub(crate) m: [i64; 3],
-    pub(crate) e: i32,
+    pub(crate) e: i8,
     /// Whether `|m|` is 2^-e within 2^-30 relative (the camera's rays): the
     /// plane then needs no square root for world distances.
     pub(crate) unit: bool,
@@ -87,7 +87,7 @@ impl FixedDir {
         });
         FixedDir {
             m,
-            e: e + k as i32,
+            e: (e + k as i32) as i8,
             unit: false,
             o_lo: [0; 3],
         }
@@ -105,7 +105,7 @@ impl FixedDir {
         };
         FixedDir {
             m,
-            e: e + k as i32,
+            e: (e + k as i32) as i8,
             unit: false,
             o_lo: [0; 3],
         }
@@ -179,7 +179,7 @@ pub(crate) fn exact_point(
     rim: Option<[I16F16; 3]>,
     solid: u8,
 ) -> Option<([I16F16; 3], Decided)> {
-    let g = d.e.checked_neg().filter(|g| (1..=30).contains(g))? as u32;
+    let g = (d.e as i32).checked_neg().filter(|g| (1..=30).contains(g))? as u32;
     let (mut hi, mut lo) = ([0i64; 3], [0i64; 3]);
     for i in 0..3 {
         (hi[i], lo[i]) = split_at_g(o[i].to_bits(), d.m[i], s.to_bits() as i64, g, d.o_lo[i] as i64)?;
@@ -190,7 +190,7 @@ pub(crate) fn exact_point(
         FixedDir::exact_rows(rows, hi, true, -16),
         FixedDir::exact_rows(rows, lo, false, -16 - g as i32),
     );
-    let fine: [i64; 3] = core::array::from_fn(|j| at30(a.m[j], a.e) + at30(b.m[j], b.e));
+    let fine: [i64; 3] = core::array::from_fn(|j| at30(a.m[j], a.e as i32) + at30(b.m[j], b.e as i32));
     let point = fine.map(round14);
     let exact = match solid {
         CUBE => cube_entry(fine, rows, d),
@@ -553,7 +553,7 @@ mod tests {
         });
         FixedDir {
             m,
-            e: e + k as i32,
+            e: (e + k as i32) as i8,
             unit: false,
             o_lo: [0; 3],
         }

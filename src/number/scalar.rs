@@ -168,7 +168,16 @@ mod kernels {
             t_min: Self,
             t_max: Self,
             checker: (Self, Self),
+            eye: Option<[Self; 4]>,
         ) -> Option<(Self, Self, Self)>;
+
+        /// What [`Kernels::plane_hit`] computes from the origin alone, for a
+        /// ray from the pinhole `eye` (world, exact): given back to it as `eye`
+        /// for every chief ray (the same bits, once a frame). `None` where the
+        /// type has no such shortcut (f32). Set-up only.
+        fn plane_from_eye(_rows: &[Self::Row; 3], _eye: [f64; 3]) -> Option<[Self; 4]> {
+            None
+        }
 
         /// [`Kernels::rows_apply_unit`] for a precise direction marked unit (a
         /// camera ray's), from its mantissas: `None` where the type keeps the

@@ -32,10 +32,14 @@ impl<S: crate::bytes::Field> crate::bytes::Field for Cone<S> {
 #[derive(Clone, Debug)]
 pub struct LensCones<S: Scalar> {
     cones: heapless::Vec<Cone<S>, MAX_OBJECTS>,
+    /// A pinhole's planes hold their chief rays' eye terms in their cones
+    /// (`Kernels::plane_from_eye`: axis and `cos_min`, which a plane, never
+    /// culled, has no use for).
+    from_eye: bool,
 }
 
 impl<S: Scalar + crate::bytes::Field> crate::bytes::Field for LensCones<S> {
-    crate::bytes::baked_fields!(LensCones { cones });
+    crate::bytes::baked_fields!(LensCones { cones, from_eye });
 }
 
 /// Slack on `cos θ` for the rounding of the direction, the axis and their dot
@@ -46,6 +50,9 @@ impl<S: Scalar> LensCones<S> {
     /// The cones seen from a lens of radius `radius` (0 for a pinhole) centred
     /// at `eye`, in world space. Set-up only, in f64.
     pub fn new(scene: &Scene<S>, eye: [f64; 3], radius: f64) -> Self {
+        // As the camera decides it: every camera ray then leaves from the eye.
+        let pinhole = radius.is_nan() || radius <= 0.0;
+        let mut from_eye = false;
         let radius = if radius.is_finite() && radius > 0.0 {
             radius
         } else {
@@ -58,6 +65,16 @@ impl<S: Scalar> LensCones<S> {
         };
         let mut cones = heapless::Vec::new();
         for obj in &scene.objects {
+            let terms = if pinhole { obj.plane_from_eye(eye) } else { None };
+            if let Some([a, b, c, d]) = terms {
+                from_eye = true;
+                let _ = cones.push(Cone {
+                    axis: Vec3::new(a, b, c),
+                    cos_min: d,
+                    always: true,
+                });
+                continue;
+            }
             let cone = obj.bound().map_or(every, |(centre, r)| {
                 let w = [0, 1, 2].map(|k| centre.to_f64()[k] - eye[k]);
                 let dist = libm::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
@@ -75,7 +92,17 @@ impl<S: Scalar> LensCones<S> {
             // One cone per object: the scene holds at most MAX_OBJECTS.
             let _ = cones.push(cone);
         }
-        LensCones { cones }
+        LensCones { cones, from_eye }
+    }
+
+    /// A pinhole's eye terms of plane `i` (`Kernels::plane_from_eye`), for
+    /// its chief rays; `None` for a lens or a type without them.
+    #[inline(always)]
+    pub(crate) fn plane_from_eye(&self, i: usize) -> Option<[S; 4]> {
+        if !self.from_eye {
+            return None;
+        }
+        self.cones.get(i).map(|c| [c.axis.x, c.axis.y, c.axis.z, c.cos_min])
     }
 
     /// Number of cones: one per object.

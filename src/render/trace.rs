@@ -23,7 +23,8 @@ impl<S: Scalar> Scene<S> {
 
     /// The nearest object hit by a camera ray (which leaves the lens: see
     /// [`LensCones`]): [`Scene::closest_hit_dir`] with the objects out of the
-    /// ray's reach skipped.
+    /// ray's reach skipped. `cones` are the camera's own: a pinhole's hold
+    /// its planes' terms for rays from its eye.
     pub fn closest_hit_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Option<(usize, Hit<S>)> {
         self.closest_hit_culled(ray.origin, ray.dir, ray.precise, S::HIT_EPSILON, Some(cones))
     }
@@ -46,7 +47,12 @@ impl<S: Scalar> Scene<S> {
                 }
             }
             let t_max = best.map_or(S::MAX, |(_, h)| h.t);
-            if let Some(h) = obj.intersect_dir(o, d, precise, t_min, t_max) {
+            // Cones come with camera rays only: from the eye where the camera is a pinhole.
+            let eye = match cones {
+                Some(c) if obj.shape == Shape::Plane => c.plane_from_eye(i),
+                _ => None,
+            };
+            if let Some(h) = obj.intersect_from(o, d, precise, t_min, t_max, eye) {
                 best = Some((i, h));
             }
         }
@@ -88,7 +94,8 @@ impl<S: Scalar> Scene<S> {
 
     /// The colour seen along a camera ray (which leaves the lens: see
     /// [`LensCones`]), unclamped: [`Scene::trace_dir`] with the objects out
-    /// of the ray's reach skipped.
+    /// of the ray's reach skipped. `cones` are the camera's own: a pinhole's
+    /// hold its planes' terms for rays from its eye.
     pub fn trace_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Vec3<S> {
         self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones), None)
     }

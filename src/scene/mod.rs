@@ -242,13 +242,36 @@ impl<S: Scalar> Object<S> {
 
     /// As [`Object::intersect`], with `precise` the ray's direction held more
     /// precisely (any length; see `Kernels::Dir`), which the plane uses.
+    #[inline]
     pub fn intersect_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir, t_min: S, t_max: S) -> Option<Hit<S>> {
+        self.intersect_from(o, d, precise, t_min, t_max, None)
+    }
+
+    /// A plane's [`Kernels::plane_from_eye`](crate::number::Scalar) for a
+    /// pinhole at `eye`; `None` for other shapes. Set-up only.
+    pub(crate) fn plane_from_eye(&self, eye: [f64; 3]) -> Option<[S; 4]> {
+        (self.shape == Shape::Plane)
+            .then(|| self.to_object.plane_from_eye(eye))
+            .flatten()
+    }
+
+    /// [`Object::intersect_dir`], with a plane's `eye` terms where the ray
+    /// leaves from the pinhole they were computed for (a chief ray).
+    pub(crate) fn intersect_from(
+        &self,
+        o: Vec3<S>,
+        d: Vec3<S>,
+        precise: S::Dir,
+        t_min: S,
+        t_max: S,
+        eye: Option<[S; 4]>,
+    ) -> Option<Hit<S>> {
         if self.shape == Shape::Plane {
             // Unbounded plane: from the ray's own origin, with the precise
             // direction (a grazing hit 100 away moves by 100² times its error).
-            let (t, x, y) = self
-                .to_object
-                .plane_hit(o, precise, t_min, t_max, (self.texture, self.inv_texture))?;
+            let (t, x, y) =
+                self.to_object
+                    .plane_hit(o, precise, t_min, t_max, (self.texture, self.inv_texture), eye)?;
             let local = LocalHit {
                 t,
                 p: Vec3::new(x, y, S::ZERO),

@@ -172,6 +172,7 @@ fn plane<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalH
         t_min,
         t_max,
         (S::ZERO, S::ZERO),
+        None,
     )?;
     Some(LocalHit {
         t,
