@@ -232,16 +232,19 @@ fn record(board: &str, rows: &[(&Run, &Outcome)]) {
 const PROGRAM1: &str = "paper-program1.scene";
 const PINHOLE: &str = "pinhole-shapes.scene";
 
+/// Program 1 through a pinhole (its text and a `radius 0` line): issue 15's speed floors.
+fn program1_pinhole(board: &str) -> &'static str {
+    let text = std::fs::read_to_string(scene(PROGRAM1)).unwrap();
+    // One file a board: the boards' tests run side by side.
+    let path = tmp(&format!("paper-program1-pinhole-{board}.scene"));
+    std::fs::write(&path, format!("{text}\nradius 0\n")).unwrap();
+    path.to_str().unwrap().to_string().leak()
+}
+
 #[test]
 #[ignore = "needs qemu-system-arm and thumbv6m-none-eabi; run by scripts/firmware-tests.sh"]
 fn microbit_renders_bit_for_bit_in_16k_of_ram() {
-    // Program 1 through a pinhole (its text and a `radius 0` line): issue 15's speed floor.
-    let program1_pinhole: &'static str = {
-        let text = std::fs::read_to_string(scene(PROGRAM1)).unwrap();
-        let path = tmp("paper-program1-pinhole.scene");
-        std::fs::write(&path, format!("{text}\nradius 0\n")).unwrap();
-        path.to_str().unwrap().to_string().leak()
-    };
+    let program1_pinhole = program1_pinhole("microbit");
     let runs = [
         Run {
             board: "microbit",
@@ -370,10 +373,12 @@ fn unseen_scenes(seed: u64, count: usize) -> Vec<&'static str> {
     out
 }
 
-/// Program 1 (4 rays) and pinhole-shapes at 160x120 in Q16.16 and f32, then
-/// `count` small scenes never seen (from `seed`, 2 rays, alternating number
-/// types), all bit for bit on `board`; the outcomes in that order, recorded.
-fn bit_for_bit_on(board: &'static str, seed: u64, count: usize) -> Vec<Outcome> {
+/// Program 1 (4 rays) and pinhole-shapes at 160x120 in Q16.16 and f32,
+/// Program 1 through a pinhole in Q16.16 (held to `pinhole_floor`
+/// instructions a pixel, issue 15's floor for the board), then `count` small
+/// scenes never seen (from `seed`, 2 rays, alternating number types), all bit
+/// for bit on `board`; the outcomes in that order, recorded.
+fn bit_for_bit_on(board: &'static str, seed: u64, count: usize, pinhole_floor: u64) -> Vec<Outcome> {
     let run = |scene, width, height, samples, float| Run {
         board,
         scene,
@@ -388,6 +393,7 @@ fn bit_for_bit_on(board: &'static str, seed: u64, count: usize) -> Vec<Outcome> 
         run(PINHOLE, 160, 120, None, false),
         run(PROGRAM1, 160, 120, Some(4), true),
         run(PINHOLE, 160, 120, None, true),
+        run(program1_pinhole(board), 160, 120, None, false),
     ];
     for (k, s) in unseen_scenes(seed, count).into_iter().enumerate() {
         runs.push(run(s, 48, 36, Some(2), k % 2 == 1));
@@ -395,6 +401,12 @@ fn bit_for_bit_on(board: &'static str, seed: u64, count: usize) -> Vec<Outcome> 
     let outcomes: Vec<Outcome> = runs.iter().map(emulate_and_compare).collect();
     assert_eq!(outcomes[0].get("rays"), 4);
     assert_eq!(outcomes[1].get("rays"), 1);
+    // Exact under -icount, so no wall clock is involved.
+    let pinhole = outcomes[4].get("per_pixel");
+    assert!(
+        pinhole <= pinhole_floor,
+        "{board}: Program 1 pinhole takes {pinhole} instructions a pixel (floor {pinhole_floor})"
+    );
     record(board, &runs.iter().zip(&outcomes).collect::<Vec<_>>());
     outcomes
 }
@@ -402,14 +414,16 @@ fn bit_for_bit_on(board: &'static str, seed: u64, count: usize) -> Vec<Outcome> 
 #[test]
 #[ignore = "needs qemu-system-arm and thumbv7m-none-eabi; run by scripts/firmware-tests.sh"]
 fn mps2_an385_cortex_m3_renders_bit_for_bit_in_q16_and_f32() {
-    bit_for_bit_on("mps2-an385", 15, 3);
+    // Issue 15: at most 4,000 instructions a pixel on the Cortex-M3.
+    bit_for_bit_on("mps2-an385", 15, 3, 4000);
 }
 
 #[test]
 #[ignore = "needs qemu-system-riscv32 and riscv32imac-unknown-none-elf; run by scripts/firmware-tests.sh"]
 fn sifive_e_rv32_renders_bit_for_bit_in_q16_and_f32() {
     // Scenes never seen from another seed than the Cortex-M3's.
-    for o in bit_for_bit_on("sifive-e", 32, 4) {
+    // Issue 15: at most 6,000 instructions a pixel on RV32.
+    for o in bit_for_bit_on("sifive-e", 32, 4, 6000) {
         // The FE310's own 16 KiB of data RAM, statics and stack together.
         assert_eq!(o.get("ram"), 16 * 1024);
         assert_eq!(o.report.get("scene_form").map(String::as_str), Some("baked"));
