@@ -37,16 +37,7 @@ fn object(shape: Shape, r: &mut impl FnMut() -> f64) -> (Object<I16F16>, Object6
         t[2]
     );
     let o64 = Scene64::parse(&text).objects.remove(0);
-    let (_, ka, kd, ks, shine) = DEFAULT_MATERIAL;
-    let desc = ObjectDesc {
-        shape,
-        ka,
-        kd,
-        ks,
-        shine,
-        texture: 0.0,
-        to_world: o64.to_world,
-    };
+    let desc = ObjectDesc::new(shape, &DEFAULT_MATERIAL, o64.to_world);
     (Object::new(&desc).expect("invertible"), o64)
 }
 

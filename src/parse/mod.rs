@@ -761,25 +761,17 @@ impl<S: Scalar> Parser<'_, S> {
             .find(|(name, _)| *name == st.values[0])
             .map(|&(_, s)| s)
             .ok_or_else(|| st.err(ErrorKind::UnknownShape(word(st.values[0]))))?;
-        let (_, ka, kd, ks, shine) = if st.count == 2 {
-            *MATERIALS
+        let material = if st.count == 2 {
+            MATERIALS
                 .iter()
                 .find(|m| m.0 == st.values[1])
                 .ok_or_else(|| st.err(ErrorKind::UnknownMaterial(word(st.values[1]))))?
         } else {
-            DEFAULT_MATERIAL
+            &DEFAULT_MATERIAL
         };
         self.object = Some(Pending {
             line: st.line,
-            desc: ObjectDesc {
-                shape,
-                ka,
-                kd,
-                ks,
-                shine,
-                texture: 0.0,
-                to_world: Mat34::IDENTITY,
-            },
+            desc: ObjectDesc::new(shape, material, Mat34::IDENTITY),
             count: None,
             seen: 0,
         });

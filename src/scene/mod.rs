@@ -189,6 +189,22 @@ pub struct ObjectDesc {
     pub to_world: Mat34,
 }
 
+impl ObjectDesc {
+    /// A `shape` of `material`, untextured, placed by `to_world`.
+    pub fn new(shape: Shape, material: &NamedMaterial, to_world: Mat34) -> Self {
+        let &(_, ka, kd, ks, shine) = material;
+        ObjectDesc {
+            shape,
+            ka,
+            kd,
+            ks,
+            shine,
+            texture: 0.0,
+            to_world,
+        }
+    }
+}
+
 impl<S: Scalar> Object<S> {
     /// Rounds an exact description to `S`. `None` if the transform is singular.
     pub fn new(desc: &ObjectDesc) -> Option<Self> {
@@ -662,17 +678,7 @@ mod tests {
     use fixed::types::I16F16;
 
     fn object<S: Scalar>(shape: Shape, to_world: Mat34) -> Object<S> {
-        let (_, ka, kd, ks, shine) = DEFAULT_MATERIAL;
-        Object::new(&ObjectDesc {
-            shape,
-            ka,
-            kd,
-            ks,
-            shine,
-            texture: 0.0,
-            to_world,
-        })
-        .unwrap()
+        Object::new(&ObjectDesc::new(shape, &DEFAULT_MATERIAL, to_world)).unwrap()
     }
 
     /// World-space hit distance and unit normal (facing the ray), in f64.
