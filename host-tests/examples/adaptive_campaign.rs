@@ -55,13 +55,21 @@ fn sweep(first: u64, count: u64, w: u32, h: u32, ref_n: u32, lo: u32, hi: u32) {
             )
             .unwrap();
             let share = def.rays / p as f64;
-            let margin = if def.psnr.is_infinite() { f64::INFINITY } else { def.psnr - ind.psnr };
+            let margin = if def.psnr.is_infinite() {
+                f64::INFINITY
+            } else {
+                def.psnr - ind.psnr
+            };
             n += 1;
             let ok = margin >= 0.0 && share <= 0.4;
             met += ok as u32;
             flat_met += (flat.psnr >= ind.psnr) as u32;
             if !ok {
-                short.push(format!("{seed} ({margin:+.2} dB, {:.1} %, flat {:+.2})", 100.0 * share, flat.psnr - ind.psnr));
+                short.push(format!(
+                    "{seed} ({margin:+.2} dB, {:.1} %, flat {:+.2})",
+                    100.0 * share,
+                    flat.psnr - ind.psnr
+                ));
             }
             share_sum += share;
             worst_share = worst_share.max(share);
@@ -164,7 +172,9 @@ fn main() {
             }
         );
     }
-    for ((judged, met, share_sum, worst_share, worst_margin), which) in tally.into_iter().zip(["", " with `point` < 20"]) {
+    for ((judged, met, share_sum, worst_share, worst_margin), which) in
+        tally.into_iter().zip(["", " with `point` < 20"])
+    {
         println!(
             "{met} of {judged} judged seeds{which} meet both floors; mean share {:.1} %, worst share {:.1} %, worst PSNR margin {:+.2} dB",
             100.0 * share_sum / judged.max(1) as f64,

@@ -376,7 +376,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // leave a fifth of the budget: else the survey's rays would cost more
         // than it can free (`point` 24 and under, frames of lamps' footprints);
         // below `point` 20, wherever they leave any (a pilot of 4 is 40 % at 10).
-        let full = if self.samples < ADAPTIVE_EIGHT_POINT { 5 * pilots >= 2 * self.samples as u64 * count } else { 5 * 5 * pilots > 4 * 2 * self.samples as u64 * count };
+        let full = if self.samples < ADAPTIVE_EIGHT_POINT {
+            5 * pilots >= 2 * self.samples as u64 * count
+        } else {
+            5 * 5 * pilots > 4 * 2 * self.samples as u64 * count
+        };
         if full {
             return self;
         }
