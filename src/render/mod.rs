@@ -585,8 +585,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut n = 0;
         // Stratified rays stand for a stratum each: with adaptive sampling,
         // one of the `check` strata the samples so far divide the lens into;
-        // else one of the largest power of two within `samples` (the check
-        // of a pixel that is not adaptive; no more locals: the M0's stack).
+        // else one of the largest power of two within the samples it takes
+        // (the check of a pixel that is not adaptive; no more locals: the M0's stack).
         let full = 1u32 << (31 - if adaptive { self.samples } else { limit }.leading_zeros());
         if !adaptive {
             check = full;
