@@ -31,7 +31,8 @@ trap 'rm -rf "$work"' EXIT
 
 # Program 1 as a pinhole (the last camera statement stands) and as written (radius 0.2).
 { cat scenes/paper-program1.scene; printf '\nradius 0\n'; } >"$work/program1-pinhole.scene"
-cp scenes/paper-program1.scene "$work/program1-lens.scene"
+# Adaptive off: every one of the 16 samples is cast (instructions a ray).
+{ cat scenes/paper-program1.scene; printf '\nadaptive off\n'; } >"$work/program1-lens.scene"
 W=160
 H=120
 

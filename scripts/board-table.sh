@@ -18,6 +18,8 @@ source "$root/scripts/firmware-tools.sh" >&2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 { cat scenes/paper-program1.scene; printf '\nradius 0\n'; } >"$work/program1-pinhole.scene"
+# Adaptive off: every one of the 16 samples is cast (instructions a ray).
+{ cat scenes/paper-program1.scene; printf '\nadaptive off\n'; } >"$work/program1-lens.scene"
 cargo build --release -q -p lensray-host >&2
 lensray="$root/target/release/lensray"
 field() { sed -n 's/^report //p' "$1" | tr ' ' '\n' | sed -n "s/^$2=//p"; }
@@ -46,7 +48,7 @@ for b in "${boards[@]}"; do
     flash=$(field "$work/pin.log" flash)
     # .text + .rodata of the ELF that just ran (flash in the report also counts .data's image).
     ft=$("$size_tool" -A "firmware/target/$target/release/lensray-firmware" | awk '$1 == ".text" || $1 == ".rodata" || $1 == ".vector_table" { s += $2 } END { print s }')
-    "$lensray" emulate scenes/paper-program1.scene --board "$board" --width $W --height $H --samples 16 "${extra[@]}" -o "$work/l.bmp" >"$work/lens.log"
+    "$lensray" emulate "$work/program1-lens.scene" --board "$board" --width $W --height $H --samples 16 "${extra[@]}" -o "$work/l.bmp" >"$work/lens.log"
     frame=$(field "$work/lens.log" frame)
     per_ray=$(( (frame + W * H * 8) / (W * H * 16) ))
     parsed_flash="-"; parsed_stack="-"

@@ -1,7 +1,7 @@
 //! Where a generated lens scene's adaptive error is and what a frame-wide
 //! allocation could buy (diagnosis): `adaptive_alloc SEED WIDTH REFERENCE`.
 //! Per pixel class (stopped at the pilot or went on; in a lamp's
-//! footprint or not) the squared error of the default render and of `point`
+//! footprint or not; `adaptive_alloc SEED WIDTH REFERENCE POINT` at that `point`) the squared error of the default render and of `point`
 //! independent samples; then the frame's PSNR if pixels stopped at the pilot
 //! kept it and the others took C stratified samples, for C up to `point`.
 use embedded_graphics_core::pixelcolor::RgbColor;
@@ -21,6 +21,10 @@ fn main() {
     let mut scene = Scene::<I16F16>::parse(&text).unwrap();
     scene.camera.sampler = Sampler::Stratified;
     scene.camera.adaptive = true;
+    // An optional fourth argument: the scene at that `point`.
+    if let Some(p) = a.get(4).and_then(|p| p.parse().ok()) {
+        scene.camera.samples = p;
+    }
     let point = scene.camera.samples;
     let pilot = adaptive_pilot(point);
     let r = Renderer::new(&scene, w, h);
@@ -30,6 +34,7 @@ fn main() {
     let mut ind = Scene::<I16F16>::parse(&text).unwrap();
     ind.camera.sampler = Sampler::Independent;
     ind.camera.adaptive = false;
+    ind.camera.samples = point;
     let ri = Renderer::new(&ind, w, h);
     let err = |c: embedded_graphics_core::pixelcolor::Rgb888, x: u32, y: u32| {
         let t = truth.pixels[(y * w + x) as usize];

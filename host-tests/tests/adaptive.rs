@@ -7,8 +7,9 @@
 //! --example adaptive_campaign`).
 
 use lensray::unstable::render::{
-    adaptive_limit, adaptive_pilot, adaptive_risk_pilot, dithered_cap, survey_stride, ADAPTIVE_MIN_PILOT,
-    ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT, SURVEY_MAX_RAYS, SURVEY_MIN_PIXELS,
+    adaptive_limit, adaptive_pilot, adaptive_risk_pilot, dithered_cap, survey_stride, ADAPTIVE_BUDGET_POINT,
+    ADAPTIVE_EIGHT_POINT, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT, ADAPTIVE_SMALL_PILOT,
+    SURVEY_MAX_RAYS, SURVEY_MIN_PIXELS,
 };
 use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
@@ -106,7 +107,7 @@ fn generated_lens_scenes_meet_the_floors() {
         let text = lensray_testkit::scenegen::generate_lens(seed);
         let point = Scene::<f32>::parse(&text).unwrap().camera.samples;
         if point < ADAPTIVE_MIN_POINT {
-            continue; // 40 % of so few is less than the smallest pilot.
+            continue; // A fixed budget under 4 rays: the PSNR floor holds on few scenes (BENCHMARKS.md).
         }
         let truth = reference(&text, 80, 60, 512, Sampler::Stratified).unwrap();
         let ind = measure(&text, &truth, Setting::independent(point)).unwrap();
@@ -151,8 +152,17 @@ fn generated_lens_scenes_stop_at_powers_of_two_or_the_limit_on_the_full_renders_
         let limit = (2 << (31 - cap.leading_zeros())).min(point);
         for (x, y) in (0..18).flat_map(|y| (0..24).map(move |x| (x, y))) {
             let (c, n) = r.pixel_rays(x, y);
-            if point < ADAPTIVE_MIN_POINT || scene.camera.radius == 0.0 || !scene.camera.adaptive {
+            if point < ADAPTIVE_BUDGET_POINT || scene.camera.radius == 0.0 || !scene.camera.adaptive {
                 assert!(n == point || n == 1, "seed {seed}: {n} of {point}");
+                continue;
+            }
+            if point < ADAPTIVE_MIN_POINT {
+                // The fixed budget: 40 % of point, dithered to a power of two.
+                assert_eq!(
+                    n,
+                    dithered_cap(adaptive_limit(point), x, y),
+                    "seed {seed}: {n} of {point}"
+                );
                 continue;
             }
             assert!(n <= limit, "seed {seed}: {n} rays of {point} (limit {limit})");
@@ -174,8 +184,13 @@ fn generated_lens_scenes_stop_at_powers_of_two_or_the_limit_on_the_full_renders_
 
 #[test]
 fn the_pilot_grows_with_point() {
-    // A third of point, rounded down to a power of two, at least 8.
+    // A third of point, rounded down to a power of two, at least 8; 4 below 20.
+    assert_eq!(ADAPTIVE_EIGHT_POINT, 20);
     assert_eq!(adaptive_pilot(20), ADAPTIVE_MIN_PILOT);
+    assert_eq!(adaptive_pilot(19), ADAPTIVE_SMALL_PILOT);
+    assert_eq!(adaptive_pilot(ADAPTIVE_MIN_POINT), 4);
+    // The small pilot is 40 % of the least adaptive point.
+    assert_eq!(5 * adaptive_pilot(ADAPTIVE_MIN_POINT), 2 * ADAPTIVE_MIN_POINT);
     assert_eq!(adaptive_pilot(33), 8);
     assert_eq!(adaptive_pilot(47), 8);
     assert_eq!(adaptive_pilot(48), 16);
@@ -186,9 +201,14 @@ fn the_pilot_grows_with_point() {
     assert_eq!(adaptive_limit(20), 8);
     assert_eq!(adaptive_limit(70), 28);
     assert_eq!(adaptive_limit(320), 128);
-    // A lens looking at nothing: every sample agrees, each pixel stops at its pilot.
+    // A lens looking at nothing: every sample agrees, each pixel stops at its
+    // pilot; below the small pilot's point, 40 % of point dithered (3 at 9:
+    // 2 or 4), and all of 1 or 2 samples.
     for (point, rays) in [
-        (ADAPTIVE_MIN_POINT - 1, ADAPTIVE_MIN_POINT - 1),
+        (ADAPTIVE_BUDGET_POINT - 1, ADAPTIVE_BUDGET_POINT - 1),
+        (ADAPTIVE_MIN_POINT - 1, dithered_cap(3, 3, 2)),
+        (ADAPTIVE_MIN_POINT, 4),
+        (19, 4),
         (33, 8),
         (64, 16),
         (320, 64),
@@ -466,14 +486,18 @@ fn generated_lens_frames_stay_within_the_ray_budget_survey_included() {
     let blocks = (500..540u64)
         .map(|s| (s, 64, 48))
         .chain((6000..6060u64).map(|s| (s, 80, 60)));
-    let mut judged = 0;
+    // Below `point` 20 (pilot 4 from 10, a fixed budget from 3) the rule
+    // before cast every sample: 100 % on every such frame.
+    let (mut judged, mut small) = (0, 0);
     for (seed, w, h) in blocks {
         let scene = Scene::<I16F16>::parse(&lensray_testkit::scenegen::generate_lens(seed)).unwrap();
         let point = scene.camera.samples;
-        if point < ADAPTIVE_MIN_POINT || scene.camera.radius == 0.0 || !scene.camera.adaptive {
+        // From 3, where 40 % of `point` is a ray (not the constant: the rule before would pass).
+        if point < 3 || scene.camera.radius == 0.0 || !scene.camera.adaptive {
             continue;
         }
         judged += 1;
+        small += (point < ADAPTIVE_EIGHT_POINT) as u32;
         let r = Renderer::new(&scene, w, h);
         let rays = frame_rays(&r, w, h);
         assert!(
@@ -482,5 +506,34 @@ fn generated_lens_frames_stay_within_the_ray_budget_survey_included() {
             100.0 * rays as f64 / (w * h) as f64 / point as f64
         );
     }
-    assert!(judged >= 50, "only {judged} adaptive lens frames");
+    assert!(
+        judged >= 70 && small >= 15,
+        "only {judged} adaptive lens frames, {small} below point 20"
+    );
+}
+
+#[test]
+fn small_point_frames_stay_within_the_ray_budget_at_every_point() {
+    // Seeds 6000 to 6019 at 80x60 rendered at every `point` from 3 to 19
+    // (and 20, where the pilot of 8 starts): every frame casts at most 40 %
+    // of `point`, survey included; the rule before cast 100 % below 20.
+    let mut frames = 0;
+    for seed in 6000..6020u64 {
+        let scene = Scene::<I16F16>::parse(&lensray_testkit::scenegen::generate_lens(seed)).unwrap();
+        if scene.camera.radius == 0.0 || !scene.camera.adaptive {
+            continue;
+        }
+        for point in 3..=20 {
+            let r = Renderer::new_with_samples(&scene, 80, 60, Some(point));
+            let rays = frame_rays(&r, 80, 60);
+            assert!(
+                rays * 5 <= 2 * point as u64 * 4800,
+                "seed {seed} at point {point}: {:.1} % of point",
+                100.0 * rays as f64 / 4800.0 / point as f64
+            );
+            frames += 1;
+        }
+    }
+    assert!(frames >= 15 * 18, "only {frames} frames");
+    assert_eq!(ADAPTIVE_BUDGET_POINT, 3);
 }

@@ -57,17 +57,37 @@ pub struct Renderer<'a, S: Scalar> {
 /// the lens (see [`crate::camera::sampler`]).
 pub const ADAPTIVE_PILOT: u32 = 16;
 
-/// The smallest pilot: 8 samples, two a quarter. A pilot of 4 (one sample a
-/// quarter) stops wrongly too often: generated scenes of `point` 28 to 31
-/// fell up to 2.7 dB below `point` independent samples with it.
+/// The smallest pilot from `point` 20: 8 samples, two a quarter. A pilot of 4
+/// (one sample a quarter) stops wrongly too often there: generated scenes of
+/// `point` 28 to 31 fell up to 2.7 dB below `point` independent samples with it.
 pub const ADAPTIVE_MIN_PILOT: u32 = 8;
 
+/// The fewest samples for a pilot of [`ADAPTIVE_MIN_PILOT`]: below it 8 is
+/// more than 40 % of them.
+pub const ADAPTIVE_EIGHT_POINT: u32 = 5 * ADAPTIVE_MIN_PILOT / 2;
+
+/// The pilot below [`ADAPTIVE_EIGHT_POINT`]: 4, one sample a quarter, the
+/// only pilot within 40 % there (before, such pixels took every sample: 100 %).
+/// Seeds 1000-1059, 3000-3059, 6000-6059 at 80x60 with `point` 10 to 19:
+/// 27 of 33 meet both floors with it.
+pub const ADAPTIVE_SMALL_PILOT: u32 = 4;
+
 /// The fewest samples a pixel must have for adaptive sampling to start: below
-/// it even the smallest pilot is more than 40 % of them.
-pub const ADAPTIVE_MIN_POINT: u32 = 5 * ADAPTIVE_MIN_PILOT / 2;
+/// it even the small pilot is more than 40 % of them (a pilot of 2 has no
+/// quarters to compare).
+pub const ADAPTIVE_MIN_POINT: u32 = 5 * ADAPTIVE_SMALL_PILOT / 2;
+
+/// The fewest samples with a ray budget (adaptive on, below
+/// [`ADAPTIVE_MIN_POINT`]: every pixel takes 40 % of `point`, dithered to a
+/// power of two): from 3, 40 % is a ray or more (1.2); at 1 and 2 it is 0.4
+/// and 0.8, under the one ray a pixel needs: the ray floor cannot be met.
+/// Under 4 rays the PSNR floor is met on few scenes (7 of 19 at 80x60,
+/// `point` 3 to 9): in-focus frames; the ray floor on every one.
+pub const ADAPTIVE_BUDGET_POINT: u32 = 3;
 
 /// The pilot of a pixel with `samples` lens samples: the largest power of two
-/// at most a third of them, and at least [`ADAPTIVE_MIN_PILOT`]. A pixel
+/// at most a third of them, and at least [`ADAPTIVE_MIN_PILOT`]; below
+/// [`ADAPTIVE_EIGHT_POINT`], [`ADAPTIVE_SMALL_PILOT`]. A pixel
 /// that stops after its pilot has seen the lens at a third to a sixth of
 /// the full render's resolution: what reaches it through less of the lens
 /// than one stratum is what the pilot may miss, an error at most √6 times
@@ -75,6 +95,9 @@ pub const ADAPTIVE_MIN_POINT: u32 = 5 * ADAPTIVE_MIN_PILOT / 2;
 /// share f < 1/P of the lens at brightness B: B f against B √(f/samples)).
 /// A quarter (pilot 8 at `point 63`) missed such features on unseen scenes.
 pub fn adaptive_pilot(samples: u32) -> u32 {
+    if samples < ADAPTIVE_EIGHT_POINT {
+        return ADAPTIVE_SMALL_PILOT;
+    }
     let third = (samples / 3).max(1);
     (1u32 << (31 - third.leading_zeros())).max(ADAPTIVE_MIN_PILOT)
 }
@@ -355,11 +378,17 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 adaptive_pilot(self.samples)
             }
         };
+        let (pilots, count) = grid(s).fold((0u64, 0u64), |(p, c), (x, y)| (p + pilot(x, y) as u64, c + 1));
         // Only where the grid's pilots (no rays: lamps' footprints are known)
         // leave a fifth of the budget: else the survey's rays would cost more
-        // than it can free (`point` 24 and under, frames of lamps' footprints).
-        let (pilots, count) = grid(s).fold((0u64, 0u64), |(p, c), (x, y)| (p + pilot(x, y) as u64, c + 1));
-        if 5 * 5 * pilots > 4 * 2 * self.samples as u64 * count {
+        // than it can free (`point` 24 and under, frames of lamps' footprints);
+        // below `point` 20, wherever they leave any (a pilot of 4 is 40 % at 10).
+        let full = if self.samples < ADAPTIVE_EIGHT_POINT {
+            5 * pilots >= 2 * self.samples as u64 * count
+        } else {
+            5 * 5 * pilots > 4 * 2 * self.samples as u64 * count
+        };
+        if full {
             return self;
         }
         #[cfg(test)]
@@ -487,7 +516,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
 
     /// The mean colour of pixel (`col`, `row`), unclamped, and the rays it cast.
     ///
-    /// With adaptive sampling (and at least [`ADAPTIVE_MIN_POINT`] samples) a
+    /// With adaptive sampling and [`ADAPTIVE_BUDGET_POINT`] to
+    /// [`ADAPTIVE_MIN_POINT`] − 1 samples a pixel takes 40 % of them,
+    /// dithered to a power of two ([`dithered_cap`]). With adaptive sampling
+    /// (and at least [`ADAPTIVE_MIN_POINT`] samples) a
     /// pixel takes a pilot of [`adaptive_pilot`] lens samples (twice that in
     /// a lamp's footprint, see [`BrightFootprints`] and
     /// [`adaptive_risk_pilot`]), then at every power of two asks whether its
@@ -540,15 +572,22 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // dithered between the powers of two around it: a partial block of
         // the (0,2)-sequence is badly stratified.
         // (Set at its first check, which comes first: one call site.)
-        let mut limit = if adaptive { most.max(check) } else { self.samples };
+        let mut limit = if adaptive {
+            most.max(check)
+        } else if self.adaptive && self.samples >= ADAPTIVE_BUDGET_POINT {
+            // Below the small pilot: a fixed stratified budget, 40 % of `point`.
+            dithered_cap(adaptive_limit(self.samples), col, row)
+        } else {
+            self.samples
+        };
         let pilot = check;
         let mut spread = 0;
         let mut n = 0;
         // Stratified rays stand for a stratum each: with adaptive sampling,
         // one of the `check` strata the samples so far divide the lens into;
-        // else one of the largest power of two within `samples` (the check
-        // of a pixel that is not adaptive; no more locals: the M0's stack).
-        let full = 1u32 << (31 - self.samples.leading_zeros());
+        // else one of the largest power of two within the samples it takes
+        // (the check of a pixel that is not adaptive; no more locals: the M0's stack).
+        let full = 1u32 << (31 - if adaptive { self.samples } else { limit }.leading_zeros());
         if !adaptive {
             check = full;
         }
