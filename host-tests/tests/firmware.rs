@@ -307,7 +307,7 @@ fn microbit_renders_bit_for_bit_in_16k_of_ram() {
         "Program 1 pinhole takes {pinhole} instructions a pixel"
     );
     assert_eq!(outcomes[3].get("rays"), 1);
-    // Program 1 at `--samples 4` (adaptive: 40 % of 4, one ray a pixel) against the pinhole scene.
+    // Program 1 at `--samples 4` (every sample: under 5 there is no ray budget) against the pinhole scene.
     assert_eq!(outcomes[0].get("rays"), 4);
     assert_eq!(outcomes[1].get("rays"), 1);
     record("microbit", &runs.iter().zip(&outcomes).collect::<Vec<_>>());
