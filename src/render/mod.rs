@@ -21,6 +21,7 @@ pub mod cull;
 pub mod defocus;
 pub mod footprint;
 pub mod progressive;
+pub mod scanline;
 mod trace;
 
 /// A scene and a camera set up for one image size: renders pixels.
@@ -310,7 +311,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             samples: scene.camera.samples.max(1),
             adaptive: scene.camera.adaptive,
             sampler: scene.camera.sampler,
-            defocus: Defocus::new(scene),
+            defocus: Defocus::for_image(scene, camera.cols()),
             cap: 0,
             survey_rays: 0,
             spread: 0,
@@ -368,7 +369,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         for (x, y) in grid(s) {
             let pilot = pilot(x, y);
             // Without a spread yet, the pixel stops at its pilot either way.
-            let (_, n, spread) = self.pixel_rays_within(x, y, pilot);
+            let (_, n, spread, _) = self.pixel_rays_within(x, y, pilot);
             rays += n as u64;
             if spread == 0 {
                 settled_pilots += n as u64;
@@ -500,28 +501,38 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// stratum's footprint (see [`Defocus`]): one of `check` strata while the
     /// pixel is adaptive, else of the largest power of two within the samples.
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
-        let (c, n, _) = self.pixel_rays_within(col, row, self.cap);
+        let (c, n, _, _) = self.pixel_rays_within(col, row, self.cap);
         (c, n)
+    }
+
+    /// Pixel (`col`, `row`) as 8-bit RGB, the rays it cast, and whether
+    /// everything they met is far out of focus (the scanline filter's gate,
+    /// see [`scanline`]; false where the renderer does not filter).
+    pub(crate) fn pixel_far(&self, col: u32, row: u32) -> (Rgb888, u32, bool) {
+        let (c, n, _, far) = self.pixel_rays_within(col, row, self.cap);
+        (Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8()), n, far)
     }
 
     /// [`Renderer::pixel_rays`] and the pixel's spread at its last check if
     /// it was not settled there, else 0 (diagnosis).
     #[doc(hidden)]
     pub fn pixel_rays_spread(&self, col: u32, row: u32) -> (Vec3<S>, u32, u32) {
-        self.pixel_rays_within(col, row, self.cap)
+        let (c, n, spread, _) = self.pixel_rays_within(col, row, self.cap);
+        (c, n, spread)
     }
 
     /// [`Renderer::pixel_rays`] with a cap of `most` samples for an adaptive
     /// pixel that is not settled (at least its pilot), and the pixel's spread
-    /// at its last check if it was not settled there (at least 1), else 0.
-    fn pixel_rays_within(&self, col: u32, row: u32, most: u32) -> (Vec3<S>, u32, u32) {
+    /// at its last check if it was not settled there (at least 1), else 0,
+    /// and whether every ray met something far out of focus (see [`scanline`]).
+    fn pixel_rays_within(&self, col: u32, row: u32, most: u32) -> (Vec3<S>, u32, u32, bool) {
         let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
             let ray = self.camera.generate_ray(&CameraSample {
                 film: &film,
                 lens: None,
             });
-            return (self.scene.trace_lens_ray(&ray, &self.cones, None), 1, 0);
+            return (self.scene.trace_lens_ray(&ray, &self.cones, None).0, 1, 0, false);
         }
         // The pixel's own samples: independent of row order and threads.
         let mut lens = PixelSamples::new(self.sampler, col, row);
@@ -554,6 +565,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         }
         // The stratum's footprint changes with `check` only: set per doubling, not per ray.
         let stratified = self.sampler == Sampler::Stratified;
+        // The scanline filter's gate: true while every ray met something far out of focus.
+        let mut far = self.filters();
         let mut stratum = self.defocus.stratum(check.min(full));
         while n < limit {
             let ray = self.camera.generate_ray(&CameraSample {
@@ -563,7 +576,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             // One call site for both samplers: two inlined copies of the trace
             // took 4 KiB more stack on the Cortex-M0.
             let footprint = stratified.then_some((&self.defocus, stratum));
-            let c = self.scene.trace_lens_ray(&ray, &self.cones, footprint);
+            let (c, t) = self.scene.trace_lens_ray(&ray, &self.cones, footprint);
+            if far {
+                far = t.map_or(self.defocus.far_miss(), |t| self.defocus.far_hit(ray.dir, t));
+            }
             acc = [
                 S::acc_add(acc[0], c.x),
                 S::acc_add(acc[1], c.y),
@@ -594,7 +610,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             }
         }
         let colour = Vec3::new(S::acc_mean(acc[0], n), S::acc_mean(acc[1], n), S::acc_mean(acc[2], n));
-        (colour, n, spread)
+        (colour, n, spread, far)
     }
 
     /// The cap of an unsettled pixel of pilot `pilot` and spread `spread`
@@ -631,13 +647,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     ///
     /// Never, for any `row` and any length of `out`.
     pub fn render_row(&self, row: u32, out: &mut [Rgb888]) -> u32 {
-        let mut rays = 0u32;
-        for (col, px) in out.iter_mut().take(self.camera.cols() as usize).enumerate() {
-            let (c, n) = self.pixel_rays(col as u32, row);
-            rays = rays.saturating_add(n);
-            *px = Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8());
+        let cols = out.len().min(self.camera.cols() as usize) as u32;
+        let mut pixels = scanline::Scanline::new(self, row, cols);
+        for (px, c) in out.iter_mut().zip(&mut pixels) {
+            *px = c;
         }
-        rays
+        pixels.rays()
     }
 }
 
@@ -695,7 +710,8 @@ where
         // No overflow: row < addressable(origin.y).
         let top_left = Point::new(origin.x, origin.y + row as i32);
         let area = Rectangle::new(top_left, Size::new(cols, 1));
-        target.fill_contiguous(&area, (0..cols).map(|col| D::Color::from(renderer.pixel(col, row))))?;
+        let pixels = scanline::Scanline::new(renderer, row, cols);
+        target.fill_contiguous(&area, pixels.map(D::Color::from))?;
     }
     Ok(())
 }

@@ -1,0 +1,149 @@
+//! The scanline filter: a 3-tap filter along the row where a pixel and both
+//! its neighbours see only what is far out of focus.
+//!
+//! A point at depth z is spread on the film over a circle of confusion of
+//! diameter 2aN |1/z_f − 1/z| (a the lens radius, N the image distance, z_f
+//! the depth in focus): K |1 − 1/u| pixels, with u = z/z_f and K = 2aN/(z_f p)
+//! for a pixel pitch p. Where everything a pixel's rays meet is spread over
+//! at least [`FAR_COC_PIXELS`] pixels, the converged picture changes by at
+//! most about a quarter of its contrast from one pixel to the next and is
+//! nearly linear over three of them, while each pixel's lens integral is
+//! still noisy (a frame of near objects, nothing in focus: stratification
+//! barely helps there and adaptive sampling stops early). Averaging such a
+//! pixel with its neighbours, (1, 2, 1)/4, takes 62 % of the noise's variance
+//! away (4.3 dB) at a bias of a quarter of the curvature. A pixel whose rays
+//! or whose neighbours' rays meet anything sharper keeps its own value: an
+//! edge in focus stays exact. A miss counts as a point at infinity.
+//!
+//! Three pixels of state, no row buffer: [`Scanline`] yields a row's pixels
+//! in order, one pixel ahead. The gate is the same comparison in either number
+//! type and the mix is in integers on the 8-bit pixels. On with the default
+//! stratified, adaptive sampling (from [`ADAPTIVE_MIN_POINT`] samples), off
+//! with `sampler independent` or `adaptive off`: see [`Renderer::filters`].
+//! Measured in `host-tests/examples/coc_filter_probe.rs` (BENCHMARKS.md).
+
+use crate::camera::sampler::Sampler;
+use crate::camera::CameraParams;
+use crate::geometry::vec3::Vec3;
+use crate::number::Scalar;
+use crate::render::defocus::Defocus;
+use crate::render::{Renderer, ADAPTIVE_MIN_POINT};
+use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
+
+/// The smallest circle of confusion, in pixels, that lets a pixel be
+/// filtered (4: at 3 scenes/ lens frames lost nothing at 320×240 and
+/// generated frames gained most; 2 lost up to 1.9 dB on `paper-fig8-pinhole`).
+pub const FAR_COC_PIXELS: f64 = 4.0;
+
+/// K / T: the circle of confusion of a point at infinity in pixels of an
+/// image `cols` wide, over [`FAR_COC_PIXELS`]; 0 for a pinhole or a camera
+/// focused nowhere. Set-up only, in f64.
+pub fn far_ratio(cam: &CameraParams, cols: u32) -> f64 {
+    let z_f = cam.focus_depth();
+    let p = cam.width / cols.max(1) as f64;
+    let k = 2.0 * cam.radius * cam.image_distance / (z_f * p);
+    if k.is_finite() && k > 0.0 {
+        // Q16.16's range: a ratio beyond it filters as much as any.
+        k.min(16384.0) / FAR_COC_PIXELS
+    } else {
+        0.0
+    }
+}
+
+impl<S: Scalar> Defocus<S> {
+    /// Whether a point at distance `t` along unit `d` is spread over at least
+    /// [`FAR_COC_PIXELS`]: K |1 − 1/u| >= T, as (K/T) |u − 1| > u for u > 0.
+    #[inline]
+    pub fn far_hit(&self, d: Vec3<S>, t: S) -> bool {
+        let u = self.depth_ratio(d, t);
+        u > S::ZERO && self.far.mul(u.sub(S::ONE).abs()) > u
+    }
+
+    /// Whether a miss (a point at infinity, spread over K pixels) is far out of focus.
+    #[inline]
+    pub fn far_miss(&self) -> bool {
+        self.far > S::ONE
+    }
+}
+
+impl<S: Scalar> Renderer<'_, S> {
+    /// Whether rows are filtered where far out of focus (see
+    /// [`crate::render::scanline`]): a lens camera with stratified, adaptive
+    /// sampling of at least [`ADAPTIVE_MIN_POINT`] samples.
+    #[inline]
+    pub fn filters(&self) -> bool {
+        self.adaptive
+            && self.sampler == Sampler::Stratified
+            && self.samples >= ADAPTIVE_MIN_POINT
+            && !self.camera.is_pinhole()
+    }
+}
+
+/// `(a + 2b + c + 2) / 4`, per channel.
+#[inline]
+fn mix(a: Rgb888, b: Rgb888, c: Rgb888) -> Rgb888 {
+    let m = |x: u8, y: u8, z: u8| ((x as u16 + 2 * y as u16 + z as u16 + 2) >> 2) as u8;
+    Rgb888::new(m(a.r(), b.r(), c.r()), m(a.g(), b.g(), c.g()), m(a.b(), b.b(), c.b()))
+}
+
+/// The pixels of one row, filtered, in order from column 0 (see the module).
+pub struct Scanline<'r, 'a, S: Scalar> {
+    renderer: &'r Renderer<'a, S>,
+    row: u32,
+    /// The next column to yield.
+    col: u32,
+    cols: u32,
+    /// Columns `col − 1`, `col` and `col + 1` as rendered, and whether each is
+    /// far out of focus (false beyond the row's ends: no filter there).
+    window: [(Rgb888, bool); 3],
+    /// Lens rays cast so far.
+    rays: u32,
+}
+
+impl<'r, 'a, S: Scalar> Scanline<'r, 'a, S> {
+    /// Row `row`'s first `cols` pixels (at most the image width).
+    pub fn new(renderer: &'r Renderer<'a, S>, row: u32, cols: u32) -> Self {
+        Scanline {
+            renderer,
+            row,
+            col: 0,
+            cols: cols.min(renderer.camera.cols()),
+            window: [(Rgb888::BLACK, false); 3],
+            rays: 0,
+        }
+    }
+
+    /// The lens rays the pixels yielded so far (and the one ahead) cast.
+    pub fn rays(&self) -> u32 {
+        self.rays
+    }
+
+    fn render(&mut self, col: u32) -> (Rgb888, bool) {
+        let (c, n, far) = self.renderer.pixel_far(col, self.row);
+        self.rays = self.rays.saturating_add(n);
+        (c, far)
+    }
+}
+
+impl<S: Scalar> Iterator for Scanline<'_, '_, S> {
+    type Item = Rgb888;
+
+    fn next(&mut self) -> Option<Rgb888> {
+        let col = self.col;
+        if col >= self.cols {
+            return None;
+        }
+        if col == 0 {
+            self.window[1] = self.render(0);
+        }
+        self.window[2] = if col + 1 < self.cols {
+            self.render(col + 1)
+        } else {
+            (Rgb888::BLACK, false)
+        };
+        let [a, b, c] = self.window;
+        self.window = [b, c, (Rgb888::BLACK, false)];
+        self.col = col + 1;
+        Some(if a.1 && b.1 && c.1 { mix(a.0, b.0, c.0) } else { b.0 })
+    }
+}
