@@ -74,7 +74,11 @@ fn pixels(text: &str, w: u32, h: u32) -> (Vec<Px>, f64) {
                         Some((_, hit)) => {
                             let d = ray.dir.to_array().map(|x| x.to_f64());
                             let z = -hit.t.to_f64() * (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]);
-                            let coc = if z > 0.0 { k * (1.0 - z_f / z).abs() } else { f64::INFINITY };
+                            let coc = if z > 0.0 {
+                                k * (1.0 - z_f / z).abs()
+                            } else {
+                                f64::INFINITY
+                            };
                             coc_hits = coc_hits.min(coc);
                             coc_all = coc_all.min(coc);
                         }
@@ -113,7 +117,11 @@ fn filtered(px: &[Px], w: u32, h: u32, taps: &[u32], t: f64, misses: bool) -> (I
                 let lo = lo.unwrap();
                 let sum: u32 = taps.iter().sum();
                 let rgb: [u8; 3] = core::array::from_fn(|ch| {
-                    let s: u32 = taps.iter().enumerate().map(|(i, &k)| k * line[lo + i].rgb[ch] as u32).sum();
+                    let s: u32 = taps
+                        .iter()
+                        .enumerate()
+                        .map(|(i, &k)| k * line[lo + i].rgb[ch] as u32)
+                        .sum();
                     ((s + sum / 2) / sum) as u8
                 });
                 out.push(embedded_graphics::pixelcolor::Rgb888::new(rgb[0], rgb[1], rgb[2]));
@@ -214,7 +222,11 @@ fn main() {
             }
             // The candidate default: report it per seed.
             if FILTERS[f].0 == "121" && THRESHOLDS[t] == 4.0 && misses {
-                line += &format!("; 121 T4 {psnr:.2} ({:+.2} vs ind, {:.0} % filtered)", psnr - ind.psnr, 100.0 * share);
+                line += &format!(
+                    "; 121 T4 {psnr:.2} ({:+.2} vs ind, {:.0} % filtered)",
+                    psnr - ind.psnr,
+                    100.0 * share
+                );
             }
         }
         println!("{line}; best {:+.2} dB with {}", best.0, best.1);

@@ -52,17 +52,10 @@ impl<S: Scalar> Defocus<S> {
         }
     }
 
-    /// [`Defocus::new`] for an image `cols` pixels wide: with the scanline
-    /// filter's gate (see [`crate::render::scanline::far_ratio`]).
-    pub fn for_image(scene: &Scene<S>, cols: u32) -> Self {
-        let d = Self::new(scene);
-        if d.radius == S::ZERO {
-            return d;
-        }
-        Defocus {
-            far: S::from_f64(crate::render::scanline::far_ratio(&scene.camera, cols)),
-            ..d
-        }
+    /// The lens radius the footprints use; 0 for a pinhole.
+    #[inline]
+    pub fn radius(&self) -> S {
+        self.radius
     }
 
     /// z/z_f of the point at distance `t` along unit `d`: its depth over the depth in focus.

@@ -311,7 +311,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             samples: scene.camera.samples.max(1),
             adaptive: scene.camera.adaptive,
             sampler: scene.camera.sampler,
-            defocus: Defocus::for_image(scene, camera.cols()),
+            defocus: Defocus::new(scene).with_far(&scene.camera, camera.cols()),
             cap: 0,
             survey_rays: 0,
             spread: 0,
@@ -508,9 +508,27 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// Pixel (`col`, `row`) as 8-bit RGB, the rays it cast, and whether
     /// everything they met is far out of focus (the scanline filter's gate,
     /// see [`scanline`]; false where the renderer does not filter).
-    pub(crate) fn pixel_far(&self, col: u32, row: u32) -> (Rgb888, u32, bool) {
+    fn pixel_far(&self, col: u32, row: u32) -> (Rgb888, u32, bool) {
         let (c, n, _, far) = self.pixel_rays_within(col, row, self.cap);
         (Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8()), n, far)
+    }
+
+    /// The first `cols` pixels (at most the image width) of row `row` as the
+    /// picture has them: filtered where far out of focus (see [`scanline`]).
+    pub fn scanline(&self, row: u32, cols: u32) -> scanline::Scanline<impl FnMut(u32) -> (Rgb888, u32, bool) + '_> {
+        scanline::Scanline::new(move |col| self.pixel_far(col, row), cols.min(self.camera.cols()))
+    }
+
+    /// Whether rows are filtered where far out of focus (see [`scanline`]):
+    /// a lens camera with stratified, adaptive sampling of at least
+    /// [`ADAPTIVE_MIN_POINT`] samples; never with `sampler independent` or
+    /// `adaptive off`.
+    #[inline]
+    pub fn filters(&self) -> bool {
+        self.adaptive
+            && self.sampler == Sampler::Stratified
+            && self.samples >= ADAPTIVE_MIN_POINT
+            && !self.camera.is_pinhole()
     }
 
     /// [`Renderer::pixel_rays`] and the pixel's spread at its last check if
@@ -648,7 +666,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// Never, for any `row` and any length of `out`.
     pub fn render_row(&self, row: u32, out: &mut [Rgb888]) -> u32 {
         let cols = out.len().min(self.camera.cols() as usize) as u32;
-        let mut pixels = scanline::Scanline::new(self, row, cols);
+        let mut pixels = self.scanline(row, cols);
         for (px, c) in out.iter_mut().zip(&mut pixels) {
             *px = c;
         }
@@ -710,8 +728,7 @@ where
         // No overflow: row < addressable(origin.y).
         let top_left = Point::new(origin.x, origin.y + row as i32);
         let area = Rectangle::new(top_left, Size::new(cols, 1));
-        let pixels = scanline::Scanline::new(renderer, row, cols);
-        target.fill_contiguous(&area, pixels.map(D::Color::from))?;
+        target.fill_contiguous(&area, renderer.scanline(row, cols).map(D::Color::from))?;
     }
     Ok(())
 }

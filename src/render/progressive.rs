@@ -256,8 +256,7 @@ where
     if step == 1 && (!skip_in_row || renderer.filters()) {
         // Single pixels: stream the row as a plain render does.
         let area = Rectangle::new(at(0), Size::new(cols, 1));
-        let pixels = crate::render::scanline::Scanline::new(renderer, row, cols);
-        return target.fill_contiguous(&area, pixels.map(D::Color::from));
+        return target.fill_contiguous(&area, renderer.scanline(row, cols).map(D::Color::from));
     }
     for col in (0..cols).step_by(step as usize) {
         if skip_in_row && col.is_multiple_of(step.saturating_mul(2)) {

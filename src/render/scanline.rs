@@ -18,16 +18,15 @@
 //! Three pixels of state, no row buffer: [`Scanline`] yields a row's pixels
 //! in order, one pixel ahead. The gate is the same comparison in either number
 //! type and the mix is in integers on the 8-bit pixels. On with the default
-//! stratified, adaptive sampling (from [`ADAPTIVE_MIN_POINT`] samples), off
-//! with `sampler independent` or `adaptive off`: see [`Renderer::filters`].
+//! stratified, adaptive sampling (from [`crate::render::ADAPTIVE_MIN_POINT`] samples), off
+//! with `sampler independent` or `adaptive off`: see
+//! [`crate::Renderer::filters`].
 //! Measured in `host-tests/examples/coc_filter_probe.rs` (BENCHMARKS.md).
 
-use crate::camera::sampler::Sampler;
 use crate::camera::CameraParams;
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
 use crate::render::defocus::Defocus;
-use crate::render::{Renderer, ADAPTIVE_MIN_POINT};
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 
 /// The smallest circle of confusion, in pixels, that lets a pixel be
@@ -51,6 +50,16 @@ pub fn far_ratio(cam: &CameraParams, cols: u32) -> f64 {
 }
 
 impl<S: Scalar> Defocus<S> {
+    /// This defocus with the scanline filter's gate for `cam` at `cols` pixels across.
+    pub fn with_far(mut self, cam: &CameraParams, cols: u32) -> Self {
+        self.far = if self.radius() == S::ZERO {
+            S::ZERO
+        } else {
+            S::from_f64(far_ratio(cam, cols))
+        };
+        self
+    }
+
     /// Whether a point at distance `t` along unit `d` is spread over at least
     /// [`FAR_COC_PIXELS`]: K |1 − 1/u| >= T, as (K/T) |u − 1| > u for u > 0.
     #[inline]
@@ -66,19 +75,6 @@ impl<S: Scalar> Defocus<S> {
     }
 }
 
-impl<S: Scalar> Renderer<'_, S> {
-    /// Whether rows are filtered where far out of focus (see
-    /// [`crate::render::scanline`]): a lens camera with stratified, adaptive
-    /// sampling of at least [`ADAPTIVE_MIN_POINT`] samples.
-    #[inline]
-    pub fn filters(&self) -> bool {
-        self.adaptive
-            && self.sampler == Sampler::Stratified
-            && self.samples >= ADAPTIVE_MIN_POINT
-            && !self.camera.is_pinhole()
-    }
-}
-
 /// `(a + 2b + c + 2) / 4`, per channel.
 #[inline]
 fn mix(a: Rgb888, b: Rgb888, c: Rgb888) -> Rgb888 {
@@ -86,10 +82,11 @@ fn mix(a: Rgb888, b: Rgb888, c: Rgb888) -> Rgb888 {
     Rgb888::new(m(a.r(), b.r(), c.r()), m(a.g(), b.g(), c.g()), m(a.b(), b.b(), c.b()))
 }
 
-/// The pixels of one row, filtered, in order from column 0 (see the module).
-pub struct Scanline<'r, 'a, S: Scalar> {
-    renderer: &'r Renderer<'a, S>,
-    row: u32,
+/// A row's pixels, filtered, in order from column 0 (see the module): from
+/// `pixel`, which renders column c as its colour, its rays and whether it is
+/// far out of focus (see [`Defocus::far_hit`]).
+pub struct Scanline<F> {
+    pixel: F,
     /// The next column to yield.
     col: u32,
     cols: u32,
@@ -100,14 +97,13 @@ pub struct Scanline<'r, 'a, S: Scalar> {
     rays: u32,
 }
 
-impl<'r, 'a, S: Scalar> Scanline<'r, 'a, S> {
-    /// Row `row`'s first `cols` pixels (at most the image width).
-    pub fn new(renderer: &'r Renderer<'a, S>, row: u32, cols: u32) -> Self {
+impl<F: FnMut(u32) -> (Rgb888, u32, bool)> Scanline<F> {
+    /// The first `cols` pixels of a row of `pixel`.
+    pub fn new(pixel: F, cols: u32) -> Self {
         Scanline {
-            renderer,
-            row,
+            pixel,
             col: 0,
-            cols: cols.min(renderer.camera.cols()),
+            cols,
             window: [(Rgb888::BLACK, false); 3],
             rays: 0,
         }
@@ -119,13 +115,13 @@ impl<'r, 'a, S: Scalar> Scanline<'r, 'a, S> {
     }
 
     fn render(&mut self, col: u32) -> (Rgb888, bool) {
-        let (c, n, far) = self.renderer.pixel_far(col, self.row);
+        let (c, n, far) = (self.pixel)(col);
         self.rays = self.rays.saturating_add(n);
         (c, far)
     }
 }
 
-impl<S: Scalar> Iterator for Scanline<'_, '_, S> {
+impl<F: FnMut(u32) -> (Rgb888, u32, bool)> Iterator for Scanline<F> {
     type Item = Rgb888;
 
     fn next(&mut self) -> Option<Rgb888> {
