@@ -583,8 +583,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         }
         // The stratum's footprint changes with `check` only: set per doubling, not per ray.
         let stratified = self.sampler == Sampler::Stratified;
-        // The scanline filter's gate: true while every ray met something far out of focus.
-        let mut far = self.filters();
+        // The scanline filter's gate: true while every ray met something far
+        // out of focus; never where a lamp may reach (its bokeh's rim is sharp).
+        let mut far = self.filters() && !risk;
         let mut stratum = self.defocus.stratum(check.min(full));
         while n < limit {
             let ray = self.camera.generate_ray(&CameraSample {

@@ -13,7 +13,10 @@
 //! pixel with its neighbours, (1, 2, 1)/4, takes 62 % of the noise's variance
 //! away (4.3 dB) at a bias of a quarter of the curvature. A pixel whose rays
 //! or whose neighbours' rays meet anything sharper keeps its own value: an
-//! edge in focus stays exact. A miss counts as a point at infinity.
+//! edge in focus stays exact. A miss counts as a point at infinity. Nor is a
+//! pixel filtered where a lamp may reach it through the lens
+//! ([`crate::render::footprint`]): the bound above is a share of the
+//! contrast, and a lamp's bokeh disc has a sharp rim of any contrast.
 //!
 //! Three pixels of state, no row buffer: [`Scanline`] yields a row's pixels
 //! in order, one pixel ahead. The gate is the same comparison in either number
