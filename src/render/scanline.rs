@@ -33,8 +33,8 @@ use crate::render::defocus::Defocus;
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 
 /// The smallest circle of confusion, in pixels, that lets a pixel be
-/// filtered (4: at 3 scenes/ lens frames lost nothing at 320×240 and
-/// generated frames gained most; 2 lost up to 1.9 dB on `paper-fig8-pinhole`).
+/// filtered (4: no lens scene of scenes/ lost at 320×240 and generated
+/// frames gained about the most; 2 lost 1.9 dB on `paper-fig8-pinhole`).
 pub const FAR_COC_PIXELS: f64 = 4.0;
 
 /// K / T: the circle of confusion of a point at infinity in pixels of an
