@@ -505,17 +505,17 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         (c, n)
     }
 
-    /// Pixel (`col`, `row`) as 8-bit RGB, the rays it cast, and whether
-    /// everything they met is far out of focus (the scanline filter's gate,
-    /// see [`scanline`]; false where the renderer does not filter).
-    fn pixel_far(&self, col: u32, row: u32) -> (Rgb888, u32, bool) {
+    /// Pixel (`col`, `row`) as 8-bit RGB, the rays it cast, and its class
+    /// for the scanline filter (see [`scanline::Scanline`]; 0 where the
+    /// renderer does not filter).
+    fn pixel_far(&self, col: u32, row: u32) -> (Rgb888, u32, u8) {
         let (c, n, _, far) = self.pixel_rays_within(col, row, self.cap);
         (Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8()), n, far)
     }
 
     /// The first `cols` pixels (at most the image width) of row `row` as the
     /// picture has them: filtered where far out of focus (see [`scanline`]).
-    pub fn scanline(&self, row: u32, cols: u32) -> scanline::Scanline<impl FnMut(u32) -> (Rgb888, u32, bool) + '_> {
+    pub fn scanline(&self, row: u32, cols: u32) -> scanline::Scanline<impl FnMut(u32) -> (Rgb888, u32, u8) + '_> {
         scanline::Scanline::new(move |col| self.pixel_far(col, row), cols.min(self.camera.cols()))
     }
 
@@ -542,15 +542,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// [`Renderer::pixel_rays`] with a cap of `most` samples for an adaptive
     /// pixel that is not settled (at least its pilot), and the pixel's spread
     /// at its last check if it was not settled there (at least 1), else 0,
-    /// and whether every ray met something far out of focus (see [`scanline`]).
-    fn pixel_rays_within(&self, col: u32, row: u32, most: u32) -> (Vec3<S>, u32, u32, bool) {
+    /// and its class for the scanline filter (see [`scanline::Scanline`]).
+    fn pixel_rays_within(&self, col: u32, row: u32, most: u32) -> (Vec3<S>, u32, u32, u8) {
         let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
             let ray = self.camera.generate_ray(&CameraSample {
                 film: &film,
                 lens: None,
             });
-            return (self.scene.trace_lens_ray(&ray, &self.cones, None).0, 1, 0, false);
+            return (self.scene.trace_lens_ray(&ray, &self.cones, None).0, 1, 0, 0);
         }
         // The pixel's own samples: independent of row order and threads.
         let mut lens = PixelSamples::new(self.sampler, col, row);
@@ -584,8 +584,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // The stratum's footprint changes with `check` only: set per doubling, not per ray.
         let stratified = self.sampler == Sampler::Stratified;
         // The scanline filter's gate: true while every ray met something far
-        // out of focus; never where a lamp may reach (its bokeh's rim is sharp).
-        let mut far = self.filters() && !risk;
+        // out of focus; what they met: bit 0 a lamp, bit 1 anything else.
+        let mut far = self.filters();
+        let mut lamps = 0u8;
         let mut stratum = self.defocus.stratum(check.min(full));
         while n < limit {
             let ray = self.camera.generate_ray(&CameraSample {
@@ -597,7 +598,16 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             let footprint = stratified.then_some((&self.defocus, stratum));
             let (c, t) = self.scene.trace_lens_ray(&ray, &self.cones, footprint);
             if far {
-                far = t.map_or(self.defocus.far_miss(), |t| self.defocus.far_hit(ray.dir, t));
+                far = match t {
+                    Some((i, t)) => {
+                        lamps |= if self.bright.is_bright(i) { 1 } else { 2 };
+                        self.defocus.far_hit(ray.dir, t)
+                    }
+                    None => {
+                        lamps |= 2;
+                        self.defocus.far_miss()
+                    }
+                };
             }
             acc = [
                 S::acc_add(acc[0], c.x),
@@ -629,7 +639,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             }
         }
         let colour = Vec3::new(S::acc_mean(acc[0], n), S::acc_mean(acc[1], n), S::acc_mean(acc[2], n));
-        (colour, n, spread, far)
+        // A pixel that saw a lamp through part of the lens is on its bokeh's rim: never filtered.
+        let class = if far && lamps != 3 { lamps } else { 0 };
+        (colour, n, spread, class)
     }
 
     /// The cap of an unsettled pixel of pilot `pilot` and spread `spread`

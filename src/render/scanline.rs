@@ -13,10 +13,12 @@
 //! pixel with its neighbours, (1, 2, 1)/4, takes 62 % of the noise's variance
 //! away (4.3 dB) at a bias of a quarter of the curvature. A pixel whose rays
 //! or whose neighbours' rays meet anything sharper keeps its own value: an
-//! edge in focus stays exact. A miss counts as a point at infinity. Nor is a
-//! pixel filtered where a lamp may reach it through the lens
-//! ([`crate::render::footprint`]): the bound above is a share of the
-//! contrast, and a lamp's bokeh disc has a sharp rim of any contrast.
+//! edge in focus stays exact. A miss counts as a point at infinity. Lamps
+//! (bright objects, [`crate::render::footprint::BRIGHT`]) are apart: the
+//! bound above is a share of the contrast, and a lamp's bokeh, clamped to
+//! white, has a sharp rim however blurred. So a pixel is filtered only with
+//! neighbours whose rays all met lamps as its own did, or all met none; one
+//! whose rays met a lamp and something else is on a rim and never filtered.
 //!
 //! Three pixels of state, no row buffer: [`Scanline`] yields a row's pixels
 //! in order, one pixel ahead. The gate is the same comparison in either number
@@ -86,28 +88,31 @@ fn mix(a: Rgb888, b: Rgb888, c: Rgb888) -> Rgb888 {
 }
 
 /// A row's pixels, filtered, in order from column 0 (see the module): from
-/// `pixel`, which renders column c as its colour, its rays and whether it is
-/// far out of focus (see [`Defocus::far_hit`]).
+/// `pixel`, which renders column c as its colour, its rays and its class: 0
+/// where some ray met something within [`FAR_COC_PIXELS`] (see
+/// [`Defocus::far_hit`]) or met both a lamp and something else, else 1 if
+/// they all met lamps, 2 if none did. A pixel is filtered where it and both
+/// neighbours share a class other than 0.
 pub struct Scanline<F> {
     pixel: F,
     /// The next column to yield.
     col: u32,
     cols: u32,
-    /// Columns `col − 1`, `col` and `col + 1` as rendered, and whether each is
-    /// far out of focus (false beyond the row's ends: no filter there).
-    window: [(Rgb888, bool); 3],
+    /// Columns `col − 1`, `col` and `col + 1` as rendered, and their classes
+    /// (0 beyond the row's ends: no filter there).
+    window: [(Rgb888, u8); 3],
     /// Lens rays cast so far.
     rays: u32,
 }
 
-impl<F: FnMut(u32) -> (Rgb888, u32, bool)> Scanline<F> {
+impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Scanline<F> {
     /// The first `cols` pixels of a row of `pixel`.
     pub fn new(pixel: F, cols: u32) -> Self {
         Scanline {
             pixel,
             col: 0,
             cols,
-            window: [(Rgb888::BLACK, false); 3],
+            window: [(Rgb888::BLACK, 0); 3],
             rays: 0,
         }
     }
@@ -117,14 +122,14 @@ impl<F: FnMut(u32) -> (Rgb888, u32, bool)> Scanline<F> {
         self.rays
     }
 
-    fn render(&mut self, col: u32) -> (Rgb888, bool) {
-        let (c, n, far) = (self.pixel)(col);
+    fn render(&mut self, col: u32) -> (Rgb888, u8) {
+        let (c, n, class) = (self.pixel)(col);
         self.rays = self.rays.saturating_add(n);
-        (c, far)
+        (c, class)
     }
 }
 
-impl<F: FnMut(u32) -> (Rgb888, u32, bool)> Iterator for Scanline<F> {
+impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Iterator for Scanline<F> {
     type Item = Rgb888;
 
     fn next(&mut self) -> Option<Rgb888> {
@@ -138,11 +143,15 @@ impl<F: FnMut(u32) -> (Rgb888, u32, bool)> Iterator for Scanline<F> {
         self.window[2] = if col + 1 < self.cols {
             self.render(col + 1)
         } else {
-            (Rgb888::BLACK, false)
+            (Rgb888::BLACK, 0)
         };
         let [a, b, c] = self.window;
-        self.window = [b, c, (Rgb888::BLACK, false)];
+        self.window = [b, c, (Rgb888::BLACK, 0)];
         self.col = col + 1;
-        Some(if a.1 && b.1 && c.1 { mix(a.0, b.0, c.0) } else { b.0 })
+        Some(if b.1 != 0 && a.1 == b.1 && c.1 == b.1 {
+            mix(a.0, b.0, c.0)
+        } else {
+            b.0
+        })
     }
 }

@@ -104,13 +104,13 @@ impl<S: Scalar> Scene<S> {
     /// the lens where `footprint` is given (the camera's defocus and the
     /// stratum's radius from [`Defocus::stratum`]): a checker it meets is
     /// averaged over the stratum's footprint there (see [`Defocus`]). Also
-    /// the distance of the hit, `None` for a miss (the scanline filter's gate).
+    /// the object hit and its distance, `None` for a miss (the scanline filter's gate).
     pub fn trace_lens_ray(
         &self,
         ray: &Ray<S>,
         cones: &LensCones<S>,
         footprint: Option<(&Defocus<S>, S)>,
-    ) -> (Vec3<S>, Option<S>) {
+    ) -> (Vec3<S>, Option<(usize, S)>) {
         self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones), footprint)
     }
 
@@ -121,7 +121,7 @@ impl<S: Scalar> Scene<S> {
         precise: S::Dir,
         cones: Option<&LensCones<S>>,
         footprint: Option<(&Defocus<S>, S)>,
-    ) -> (Vec3<S>, Option<S>) {
+    ) -> (Vec3<S>, Option<(usize, S)>) {
         let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::HIT_EPSILON, cones) else {
             return (self.background, None);
         };
@@ -179,6 +179,6 @@ impl<S: Scalar> Scene<S> {
             let specular = m.ks.scale(r_dot_v.powf(m.shine));
             colour = colour + (diffuse + specular).hadamard(light.intensity);
         }
-        (colour, Some(hit.t))
+        (colour, Some((i, hit.t)))
     }
 }
