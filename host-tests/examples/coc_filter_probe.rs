@@ -3,7 +3,10 @@
 //! adaptive), replays each pixel's rays for their hits' circle of confusion
 //! (CoC, pixels), filters along the scanline where the smallest CoC of the
 //! pixel and its neighbours is at least T, and measures PSNR against the
-//! converged reference for several T and taps.
+//! converged reference for several T and taps. The library's filter
+//! (`src/render/scanline.rs`) is (1, 2, 1)/4 at T = 4 with a lamp rule this
+//! prototype leaves out; "default" here is the pixels before any filter.
+//! Figures: BENCHMARKS.md, "Sixth round: the scanline filter".
 //!
 //! ```sh
 //! cargo run --release -p lensray-host --example coc_filter_probe -- FIRST COUNT WIDTH REF

@@ -661,7 +661,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         dithered_cap(own, col, row).min(self.samples)
     }
 
-    /// Pixel (`col`, `row`) as 8-bit RGB: each channel clamped and `round(255 v)`.
+    /// Pixel (`col`, `row`) as 8-bit RGB: each channel clamped and `round(255 v)`;
+    /// before the scanline filter (see [`scanline`]), which rows carry.
     ///
     /// # Panics
     ///
@@ -672,7 +673,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     }
 
     /// Fills `out` with row `row`, from column 0 (`out.len()` pixels at most
-    /// the image width; extra entries are left untouched), and returns the
+    /// the image width; extra entries are left untouched), filtered where far
+    /// out of focus (see [`scanline`]; a shorter `out` ends the row), and returns the
     /// rays the row cast (a row of 8192 pixels at 65535 rays fits a u32).
     ///
     /// # Panics
