@@ -521,14 +521,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
 
     /// Whether rows are filtered where far out of focus (see [`scanline`]):
     /// a lens camera with stratified, adaptive sampling of at least
-    /// [`ADAPTIVE_MIN_POINT`] samples; never with `sampler independent` or
+    /// [`scanline::FILTER_MIN_POINT`] samples; never with `sampler independent` or
     /// `adaptive off`, nor with the feature `no-scanline-filter` (the micro:bit's).
     #[inline]
     pub fn filters(&self) -> bool {
         !cfg!(feature = "no-scanline-filter")
             && self.adaptive
             && self.sampler == Sampler::Stratified
-            && self.samples >= ADAPTIVE_MIN_POINT
+            && self.samples >= scanline::FILTER_MIN_POINT
             && !self.camera.is_pinhole()
     }
 
