@@ -160,3 +160,67 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Iterator for Scanline<F> {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Random rows of random classes: a pixel is the mix exactly where it and
+    /// both neighbours share a class other than 0 (never at a row's ends),
+    /// else itself; every pixel is rendered once, in order, and its rays counted.
+    #[test]
+    fn a_pixel_is_mixed_only_between_neighbours_of_its_own_class() {
+        let mut next = crate::test_rng::xorshift32(0x5ca1_ab1e);
+        let (mut mixed, mut kept) = (0, 0);
+        for len in 1..40u32 {
+            let row: std::vec::Vec<(Rgb888, u32, u8)> = (0..len)
+                .map(|_| {
+                    let v = next();
+                    let c = Rgb888::new(v as u8, (v >> 8) as u8, (v >> 16) as u8);
+                    (c, next() % 70, [0, 1, 2, 2, 2][(next() % 5) as usize])
+                })
+                .collect();
+            let mut asked = std::vec::Vec::new();
+            let mut line = Scanline::new(
+                |col| {
+                    asked.push(col);
+                    row[col as usize]
+                },
+                len,
+            );
+            let out: std::vec::Vec<Rgb888> = (&mut line).collect();
+            assert_eq!(line.rays(), row.iter().map(|p| p.1).sum::<u32>());
+            drop(line);
+            assert_eq!(asked, (0..len).collect::<std::vec::Vec<_>>());
+            for c in 0..len as usize {
+                let inner = c > 0 && c + 1 < len as usize;
+                let class = row[c].2;
+                if inner && class != 0 && row[c - 1].2 == class && row[c + 1].2 == class {
+                    assert_eq!(out[c], mix(row[c - 1].0, row[c].0, row[c + 1].0), "len {len} col {c}");
+                    mixed += 1;
+                } else {
+                    assert_eq!(out[c], row[c].0, "len {len} col {c}");
+                    kept += 1;
+                }
+            }
+        }
+        assert!(mixed > 50 && kept > 50, "{mixed} mixed, {kept} kept");
+    }
+
+    /// (a + 2b + c + 2) / 4 per channel, against its definition in f64, rounded half up.
+    #[test]
+    fn mix_is_the_rounded_weighted_mean() {
+        let mut next = crate::test_rng::xorshift32(7);
+        for _ in 0..10_000 {
+            let p = |v: u32| Rgb888::new(v as u8, (v >> 8) as u8, (v >> 16) as u8);
+            let (a, b, c) = (p(next()), p(next()), p(next()));
+            let want = |x: u8, y: u8, z: u8| ((x as f64 + 2.0 * y as f64 + z as f64) / 4.0 + 0.5).floor() as u8;
+            let expected = Rgb888::new(
+                want(a.r(), b.r(), c.r()),
+                want(a.g(), b.g(), c.g()),
+                want(a.b(), b.b(), c.b()),
+            );
+            assert_eq!(mix(a, b, c), expected);
+        }
+    }
+}
