@@ -190,7 +190,6 @@ mod tests {
             );
             let out: std::vec::Vec<Rgb888> = (&mut line).collect();
             assert_eq!(line.rays(), row.iter().map(|p| p.1).sum::<u32>());
-            drop(line);
             assert_eq!(asked, (0..len).collect::<std::vec::Vec<_>>());
             for c in 0..len as usize {
                 let inner = c > 0 && c + 1 < len as usize;
