@@ -558,3 +558,41 @@ fn a_bad_scene_fails_like_render_before_any_build() {
         assert!(String::from_utf8_lossy(&o.stderr).contains("--board"), "{}", show(&o));
     }
 }
+
+/// Generated seed 6014 (an object within a lens radius of the camera, nearly
+/// every pixel far out of focus) at its own `point` 21: the scanline filter
+/// (src/render/scanline.rs) changes most of the host's rows there.
+fn filtered_scene(board: &str) -> &'static str {
+    let text = lensray_testkit::scenegen::generate_lens(6014) + "\nsampler stratified\nadaptive on\n";
+    let scene = lensray::Scene::<I16F16>::parse(&text).unwrap();
+    let r = lensray::Renderer::new(&scene, 40, 30);
+    assert!(r.filters());
+    let mut changed = 0;
+    for row in 0..30 {
+        let mut out = vec![embedded_graphics::pixelcolor::Rgb888::new(0, 0, 0); 40];
+        r.render_row(row, &mut out);
+        changed += (0..40).filter(|&c| out[c as usize] != r.pixel(c, row)).count();
+    }
+    assert!(changed > 200, "the filter changes {changed} of 1200 pixels");
+    let path = tmp(&format!("filtered-6014-{board}.scene"));
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string().leak()
+}
+
+#[test]
+#[ignore = "needs qemu-system-arm and thumbv7m-none-eabi; run by scripts/firmware-tests.sh"]
+fn the_scanline_filter_runs_bit_for_bit_on_the_cortex_m3() {
+    let scene = filtered_scene("mps2-an385");
+    for float in [false, true] {
+        let o = emulate_and_compare(&Run {
+            board: "mps2-an385",
+            scene,
+            width: 40,
+            height: 30,
+            samples: None,
+            float,
+            soft_sqrt: false,
+        });
+        assert_eq!(o.get("rays"), 21);
+    }
+}

@@ -24,6 +24,9 @@ pub struct Defocus<S> {
     ahead: Vec3<S>,
     /// The lens radius times [`FOOTPRINT_GAIN`]; 0 for a pinhole.
     radius: S,
+    /// K / T for the scanline filter (see [`crate::render::scanline`]): K the
+    /// circle of confusion, in pixels, of a point at infinity; 0 for none.
+    pub(crate) far: S,
 }
 
 impl<S: Scalar> Defocus<S> {
@@ -32,6 +35,7 @@ impl<S: Scalar> Defocus<S> {
         let none = Defocus {
             ahead: Vec3::new(S::ZERO, S::ZERO, S::ZERO),
             radius: S::ZERO,
+            far: S::ZERO,
         };
         let cam = &scene.camera;
         let z_f = cam.focus_depth();
@@ -44,7 +48,20 @@ impl<S: Scalar> Defocus<S> {
         Defocus {
             ahead: Vec3::from_f64(n.map(|x| -x / z_f)),
             radius: S::from_f64(cam.radius * FOOTPRINT_GAIN),
+            far: S::ZERO,
         }
+    }
+
+    /// The lens radius the footprints use; 0 for a pinhole.
+    #[inline]
+    pub fn radius(&self) -> S {
+        self.radius
+    }
+
+    /// z/z_f of the point at distance `t` along unit `d`: its depth over the depth in focus.
+    #[inline]
+    pub fn depth_ratio(&self, d: Vec3<S>, t: S) -> S {
+        t.mul(d.dot(self.ahead))
     }
 
     /// A ray's footprint radius per unit of |1 − z/z_f| when it stands for
@@ -66,12 +83,12 @@ impl<S: Scalar> Defocus<S> {
     /// a stratum of radius `stratum` (from [`Defocus::stratum`]) at distance `t`.
     #[inline]
     pub fn width(&self, d: Vec3<S>, t: S, stratum: S) -> S {
-        stratum.mul(S::ONE.sub(t.mul(d.dot(self.ahead))).abs())
+        stratum.mul(S::ONE.sub(self.depth_ratio(d, t)).abs())
     }
 }
 
 impl<S: crate::bytes::Field> crate::bytes::Field for Defocus<S> {
-    crate::bytes::baked_fields!(Defocus { ahead, radius });
+    crate::bytes::baked_fields!(Defocus { ahead, radius, far });
 }
 
 impl<S: Scalar + crate::bytes::Field> Defocus<S> {

@@ -48,6 +48,8 @@ pub struct BrightFootprints {
     spots: heapless::Vec<Spot, MAX_BRIGHT>,
     /// A bright object straddles the lens plane, or there are too many.
     everywhere: bool,
+    /// Bit i: object i is bright (see the scanline filter, [`crate::render::scanline`]).
+    objects: u32,
 }
 
 /// Coordinates are clamped here (half pixels): far beyond any image side.
@@ -60,6 +62,7 @@ impl BrightFootprints {
         let mut out = BrightFootprints {
             spots: heapless::Vec::new(),
             everywhere: false,
+            objects: 0,
         };
         let cam = &scene.camera;
         let a = cam.radius;
@@ -77,7 +80,7 @@ impl BrightFootprints {
         let f_max = z_f / big_n * libm::sqrt(half_w * half_w + half_h * half_h);
         let dot = |x: [f64; 3], y: [f64; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
         let ambient = scene.ambient.to_f64();
-        for obj in &scene.objects {
+        for (i, obj) in scene.objects.iter().enumerate() {
             let m = &obj.material;
             let (ka, kd, ks) = (m.ka.to_f64(), m.kd.to_f64(), m.ks.to_f64());
             // A plane is lit only by the lights on the lens's side of it (shading
@@ -99,6 +102,7 @@ impl BrightFootprints {
                 })
                 .fold(0.0, f64::max);
             if brightest.is_nan() || brightest > BRIGHT {
+                out.objects |= 1u32.checked_shl(i as u32).unwrap_or(0);
                 let Some((centre, rho)) = obj.bound() else {
                     // A bright plane is everywhere.
                     out.everywhere = true;
@@ -142,6 +146,12 @@ impl BrightFootprints {
             let (dc, dr) = (c - s.col2 as i64, r - s.row2 as i64);
             dc * dc + dr * dr <= s.radius2 as i64 * s.radius2 as i64
         })
+    }
+
+    /// Whether object `i` is bright (a lamp: its brightest colour exceeds [`BRIGHT`]).
+    #[inline]
+    pub fn is_bright(&self, i: usize) -> bool {
+        (self.objects >> (i & 31)) & 1 == 1
     }
 
     /// Whether the scene has no bright object in front of the lens.
@@ -190,7 +200,11 @@ impl crate::bytes::Field for Spot {
 }
 
 impl crate::bytes::Field for BrightFootprints {
-    crate::bytes::baked_fields!(BrightFootprints { spots, everywhere });
+    crate::bytes::baked_fields!(BrightFootprints {
+        spots,
+        everywhere,
+        objects
+    });
 }
 
 impl BrightFootprints {

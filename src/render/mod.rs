@@ -21,6 +21,7 @@ pub mod cull;
 pub mod defocus;
 pub mod footprint;
 pub mod progressive;
+pub mod scanline;
 mod trace;
 
 /// A scene and a camera set up for one image size: renders pixels.
@@ -334,7 +335,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             samples: scene.camera.samples.max(1),
             adaptive: scene.camera.adaptive,
             sampler: scene.camera.sampler,
-            defocus: Defocus::new(scene),
+            defocus: Defocus::new(scene).with_far(&scene.camera, camera.cols()),
             cap: 0,
             survey_rays: 0,
             spread: 0,
@@ -398,7 +399,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         for (x, y) in grid(s) {
             let pilot = pilot(x, y);
             // Without a spread yet, the pixel stops at its pilot either way.
-            let (_, n, spread) = self.pixel_rays_within(x, y, pilot);
+            let (_, n, spread, _) = self.pixel_rays_within(x, y, pilot);
             rays += n as u64;
             if spread == 0 {
                 settled_pilots += n as u64;
@@ -533,28 +534,57 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// stratum's footprint (see [`Defocus`]): one of `check` strata while the
     /// pixel is adaptive, else of the largest power of two within the samples.
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
-        let (c, n, _) = self.pixel_rays_within(col, row, self.cap);
+        let (c, n, _, _) = self.pixel_rays_within(col, row, self.cap);
         (c, n)
+    }
+
+    /// Pixel (`col`, `row`) as 8-bit RGB, the rays it cast, and its class
+    /// for the scanline filter (see [`scanline::Scanline`]; 0 where the
+    /// renderer does not filter).
+    fn pixel_far(&self, col: u32, row: u32) -> (Rgb888, u32, u8) {
+        let (c, n, _, far) = self.pixel_rays_within(col, row, self.cap);
+        (Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8()), n, far)
+    }
+
+    /// The first `cols` pixels (at most the image width) of row `row` as the
+    /// picture has them: filtered where far out of focus (see [`scanline`]).
+    pub fn scanline(&self, row: u32, cols: u32) -> scanline::Scanline<impl FnMut(u32) -> (Rgb888, u32, u8) + '_> {
+        scanline::Scanline::new(move |col| self.pixel_far(col, row), cols.min(self.camera.cols()))
+    }
+
+    /// Whether rows are filtered where far out of focus (see [`scanline`]):
+    /// a lens camera with stratified, adaptive sampling of at least
+    /// [`scanline::FILTER_MIN_POINT`] samples; never with `sampler independent` or
+    /// `adaptive off`, nor with the feature `no-scanline-filter` (the micro:bit's).
+    #[inline]
+    pub fn filters(&self) -> bool {
+        !cfg!(feature = "no-scanline-filter")
+            && self.adaptive
+            && self.sampler == Sampler::Stratified
+            && self.samples >= scanline::FILTER_MIN_POINT
+            && !self.camera.is_pinhole()
     }
 
     /// [`Renderer::pixel_rays`] and the pixel's spread at its last check if
     /// it was not settled there, else 0 (diagnosis).
     #[doc(hidden)]
     pub fn pixel_rays_spread(&self, col: u32, row: u32) -> (Vec3<S>, u32, u32) {
-        self.pixel_rays_within(col, row, self.cap)
+        let (c, n, spread, _) = self.pixel_rays_within(col, row, self.cap);
+        (c, n, spread)
     }
 
     /// [`Renderer::pixel_rays`] with a cap of `most` samples for an adaptive
     /// pixel that is not settled (at least its pilot), and the pixel's spread
-    /// at its last check if it was not settled there (at least 1), else 0.
-    fn pixel_rays_within(&self, col: u32, row: u32, most: u32) -> (Vec3<S>, u32, u32) {
+    /// at its last check if it was not settled there (at least 1), else 0,
+    /// and its class for the scanline filter (see [`scanline::Scanline`]).
+    fn pixel_rays_within(&self, col: u32, row: u32, most: u32) -> (Vec3<S>, u32, u32, u8) {
         let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
             let ray = self.camera.generate_ray(&CameraSample {
                 film: &film,
                 lens: None,
             });
-            return (self.scene.trace_lens_ray(&ray, &self.cones, None), 1, 0);
+            return (self.scene.trace_lens_ray(&ray, &self.cones, None).0, 1, 0, 0);
         }
         // The pixel's own samples: independent of row order and threads.
         let mut lens = PixelSamples::new(self.sampler, col, row);
@@ -594,6 +624,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         }
         // The stratum's footprint changes with `check` only: set per doubling, not per ray.
         let stratified = self.sampler == Sampler::Stratified;
+        // The scanline filter's gate: true while every ray met something far
+        // out of focus; what they met: bit 0 a lamp, bit 1 anything else.
+        let mut far = self.filters();
+        let mut lamps = 0u8;
         let mut stratum = self.defocus.stratum(check.min(full));
         while n < limit {
             let ray = self.camera.generate_ray(&CameraSample {
@@ -603,7 +637,19 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             // One call site for both samplers: two inlined copies of the trace
             // took 4 KiB more stack on the Cortex-M0.
             let footprint = stratified.then_some((&self.defocus, stratum));
-            let c = self.scene.trace_lens_ray(&ray, &self.cones, footprint);
+            let (c, t) = self.scene.trace_lens_ray(&ray, &self.cones, footprint);
+            if far {
+                far = match t {
+                    Some((i, t)) => {
+                        lamps |= if self.bright.is_bright(i) { 1 } else { 2 };
+                        self.defocus.far_hit(ray.dir, t)
+                    }
+                    None => {
+                        lamps |= 2;
+                        self.defocus.far_miss()
+                    }
+                };
+            }
             acc = [
                 S::acc_add(acc[0], c.x),
                 S::acc_add(acc[1], c.y),
@@ -634,7 +680,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             }
         }
         let colour = Vec3::new(S::acc_mean(acc[0], n), S::acc_mean(acc[1], n), S::acc_mean(acc[2], n));
-        (colour, n, spread)
+        // A pixel that saw a lamp through part of the lens is on its bokeh's rim: never filtered.
+        let class = if far && lamps != 3 { lamps } else { 0 };
+        (colour, n, spread, class)
     }
 
     /// The cap of an unsettled pixel of pilot `pilot` and spread `spread`
@@ -653,7 +701,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         dithered_cap(own, col, row).min(self.samples)
     }
 
-    /// Pixel (`col`, `row`) as 8-bit RGB: each channel clamped and `round(255 v)`.
+    /// Pixel (`col`, `row`) as 8-bit RGB: each channel clamped and `round(255 v)`;
+    /// before the scanline filter (see [`scanline`]), which rows carry.
     ///
     /// # Panics
     ///
@@ -664,20 +713,20 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     }
 
     /// Fills `out` with row `row`, from column 0 (`out.len()` pixels at most
-    /// the image width; extra entries are left untouched), and returns the
+    /// the image width; extra entries are left untouched), filtered where far
+    /// out of focus (see [`scanline`]; a shorter `out` ends the row), and returns the
     /// rays the row cast (a row of 8192 pixels at 65535 rays fits a u32).
     ///
     /// # Panics
     ///
     /// Never, for any `row` and any length of `out`.
     pub fn render_row(&self, row: u32, out: &mut [Rgb888]) -> u32 {
-        let mut rays = 0u32;
-        for (col, px) in out.iter_mut().take(self.camera.cols() as usize).enumerate() {
-            let (c, n) = self.pixel_rays(col as u32, row);
-            rays = rays.saturating_add(n);
-            *px = Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8());
+        let cols = out.len().min(self.camera.cols() as usize) as u32;
+        let mut pixels = self.scanline(row, cols);
+        for (px, c) in out.iter_mut().zip(&mut pixels) {
+            *px = c;
         }
-        rays
+        pixels.rays()
     }
 }
 
@@ -735,7 +784,7 @@ where
         // No overflow: row < addressable(origin.y).
         let top_left = Point::new(origin.x, origin.y + row as i32);
         let area = Rectangle::new(top_left, Size::new(cols, 1));
-        target.fill_contiguous(&area, (0..cols).map(|col| D::Color::from(renderer.pixel(col, row))))?;
+        target.fill_contiguous(&area, renderer.scanline(row, cols).map(D::Color::from))?;
     }
     Ok(())
 }

@@ -17,7 +17,11 @@
 //! picture and nothing needs to be stored or read back. Each pixel is computed
 //! once with its full sample count (with adaptive sampling, the same samples
 //! the plain render takes, stopping where it stops): the refinement passes
-//! together cost exactly one plain render.
+//! together cost exactly one plain render. Where rows are filtered (the
+//! default stratified, adaptive sampling of a lens camera: see
+//! [`crate::render::scanline`]) the last pass redraws the rows of the earlier
+//! grids whole, as a filtered pixel needs its neighbours: the passes then
+//! cost 1.25 plain renders (the coarser grids' quarter of the pixels twice).
 //!
 //! On top of that an optional *preview* pass draws the coarsest grid with few
 //! lens samples (1 by default): for Program 1 at 8 × 8 blocks and 70 rays a
@@ -246,10 +250,13 @@ where
     let skip_in_row = pass.skip_coarser && row.is_multiple_of(step.saturating_mul(2));
     // No overflow below: row < addressable(origin.y) and col < addressable(origin.x).
     let at = |col: u32| Point::new(origin.x + col as i32, origin.y + row as i32);
-    if step == 1 && !skip_in_row {
-        // Single pixels, all new: stream the row as a plain render does.
+    // Where rows are filtered (see [`crate::render::scanline`]) the last pass
+    // draws every row whole: a filtered pixel needs its neighbours' values,
+    // which no earlier pass kept (a quarter of the pixels computed twice).
+    if step == 1 && (!skip_in_row || renderer.filters()) {
+        // Single pixels: stream the row as a plain render does.
         let area = Rectangle::new(at(0), Size::new(cols, 1));
-        return target.fill_contiguous(&area, (0..cols).map(|col| D::Color::from(renderer.pixel(col, row))));
+        return target.fill_contiguous(&area, renderer.scanline(row, cols).map(D::Color::from));
     }
     for col in (0..cols).step_by(step as usize) {
         if skip_in_row && col.is_multiple_of(step.saturating_mul(2)) {

@@ -89,7 +89,7 @@ impl<S: Scalar> Scene<S> {
     /// As [`Scene::trace`], with the ray's direction also held precisely
     /// (any length): the camera's rays, see [`Ray`].
     pub fn trace_dir(&self, o: Vec3<S>, d: Vec3<S>, precise: S::Dir) -> Vec3<S> {
-        self.trace_culled(o, d, precise, None, None)
+        self.trace_culled(o, d, precise, None, None).0
     }
 
     /// The colour seen along a camera ray (which leaves the lens: see
@@ -97,14 +97,20 @@ impl<S: Scalar> Scene<S> {
     /// of the ray's reach skipped. `cones` are the camera's own: a pinhole's
     /// hold its planes' terms for rays from its eye.
     pub fn trace_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Vec3<S> {
-        self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones), None)
+        self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones), None).0
     }
 
     /// As [`Scene::trace_camera_ray`], for a ray standing for a stratum of
     /// the lens where `footprint` is given (the camera's defocus and the
     /// stratum's radius from [`Defocus::stratum`]): a checker it meets is
-    /// averaged over the stratum's footprint there (see [`Defocus`]).
-    pub fn trace_lens_ray(&self, ray: &Ray<S>, cones: &LensCones<S>, footprint: Option<(&Defocus<S>, S)>) -> Vec3<S> {
+    /// averaged over the stratum's footprint there (see [`Defocus`]). Also
+    /// the object hit and its distance, `None` for a miss (the scanline filter's gate).
+    pub fn trace_lens_ray(
+        &self,
+        ray: &Ray<S>,
+        cones: &LensCones<S>,
+        footprint: Option<(&Defocus<S>, S)>,
+    ) -> (Vec3<S>, Option<(usize, S)>) {
         self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones), footprint)
     }
 
@@ -115,13 +121,13 @@ impl<S: Scalar> Scene<S> {
         precise: S::Dir,
         cones: Option<&LensCones<S>>,
         footprint: Option<(&Defocus<S>, S)>,
-    ) -> Vec3<S> {
+    ) -> (Vec3<S>, Option<(usize, S)>) {
         let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::HIT_EPSILON, cones) else {
-            return self.background;
+            return (self.background, None);
         };
         // Always there (the search's own index); `get` spares a panicking bounds check.
         let Some(obj) = self.objects.get(i) else {
-            return self.background;
+            return (self.background, None);
         };
         let p = o + d.scale(hit.t);
         let (n, outside) = obj.facing_normal(&hit, d);
@@ -173,6 +179,6 @@ impl<S: Scalar> Scene<S> {
             let specular = m.ks.scale(r_dot_v.powf(m.shine));
             colour = colour + (diffuse + specular).hadamard(light.intensity);
         }
-        colour
+        (colour, Some((i, hit.t)))
     }
 }

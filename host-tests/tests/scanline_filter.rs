@@ -1,0 +1,224 @@
+//! The scanline filter (issue 14, `src/render/scanline.rs`): a row's pixel
+//! differs from the pixel rendered alone only where it, both its neighbours
+//! and every ray they cast see what is spread over at least
+//! `FAR_COC_PIXELS` (circles of confusion recomputed here in f64 from each
+//! ray's own hit) and their rays all met lamps or all met none, and then it
+//! is exactly (1, 2, 1)/4 of the three; never
+//! with `sampler independent` or `adaptive off`; the progressive passes end
+//! on the same picture.
+
+use embedded_graphics::mock_display::MockDisplay;
+use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
+use lensray::unstable::render::scanline::{far_ratio, FAR_COC_PIXELS};
+use lensray::unstable::sampler::{PixelSamples, Sampler};
+use lensray::{progressive, CameraSample, Renderer, Scalar, Scene, I16F16};
+
+/// The smallest circle of confusion, in pixels, over the hits of the rays
+/// pixel (`col`, `row`) casts (a miss: a point at infinity), and what they
+/// met: bit 0 a lamp (a bright object), bit 1 anything else.
+fn smallest_coc<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row: u32) -> (f64, u8) {
+    let cam = &scene.camera;
+    let z_f = cam.focus_depth();
+    let n = lensray::unstable::camera::basis(cam).unwrap()[2];
+    let k = far_ratio(cam, r.camera().cols()) * FAR_COC_PIXELS;
+    let (_, count) = r.pixel_rays(col, row);
+    let camera = r.camera();
+    let film = camera.film_point(col, row);
+    let mut lens = PixelSamples::new(r.sampler(), col, row);
+    let (mut coc, mut met) = (f64::INFINITY, 0);
+    for _ in 0..count {
+        let ray = camera.generate_ray(&CameraSample {
+            film: &film,
+            lens: Some(lens.next(camera.aperture())),
+        });
+        let c = match scene.closest_hit_camera_ray(&ray, r.cones()) {
+            Some((i, hit)) => {
+                met |= if r.bright_footprints().is_bright(i) { 1 } else { 2 };
+                let d = ray.dir.to_array().map(|x| x.to_f64());
+                let z = -hit.t.to_f64() * (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]);
+                if z > 0.0 {
+                    k * (1.0 - z_f / z).abs()
+                } else {
+                    0.0
+                }
+            }
+            None => {
+                met |= 2;
+                k
+            }
+        };
+        coc = coc.min(c);
+    }
+    (coc, met)
+}
+
+fn mix(a: Rgb888, b: Rgb888, c: Rgb888) -> Rgb888 {
+    let m = |x: u8, y: u8, z: u8| ((x as u32 + 2 * y as u32 + z as u32 + 2) / 4) as u8;
+    Rgb888::new(m(a.r(), b.r(), c.r()), m(a.g(), b.g(), c.g()), m(a.b(), b.b(), c.b()))
+}
+
+/// Every row of `scene` at `w`×`h`: (pixels filtered, pixels the gate held back).
+fn check<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, label: &str) -> (u32, u32) {
+    let r = Renderer::new(scene, w, h);
+    assert!(r.filters(), "{label}: the default render filters");
+    let (mut filtered, mut held) = (0, 0);
+    for row in 0..h {
+        let mut out = vec![Rgb888::BLACK; w as usize];
+        r.render_row(row, &mut out);
+        let alone: Vec<Rgb888> = (0..w).map(|c| r.pixel(c, row)).collect();
+        let info: Vec<(f64, u8)> = (0..w).map(|c| smallest_coc(&r, scene, c, row)).collect();
+        for c in 0..w as usize {
+            let inner = c > 0 && c + 1 < w as usize;
+            let window = if inner { &info[c - 1..=c + 1] } else { &info[c..=c] };
+            let least = window.iter().map(|x| x.0).fold(f64::INFINITY, f64::min);
+            // All lamps or none, alike in the three: else the rim of a lamp's bokeh.
+            let alike = inner && window[0].1 != 3 && window.iter().all(|x| x.1 == window[0].1);
+            if out[c] != alone[c] {
+                // Q16.16's depths against f64's: 2 % of slack.
+                assert!(
+                    alike && least >= 0.98 * FAR_COC_PIXELS,
+                    "{label} ({c}, {row}) filtered at a circle of confusion of {least:.2} pixels, {window:?}"
+                );
+                assert_eq!(
+                    out[c],
+                    mix(alone[c - 1], alone[c], alone[c + 1]),
+                    "{label} ({c}, {row})"
+                );
+            }
+            if alike && least >= 1.02 * FAR_COC_PIXELS {
+                // The gate is open here: the row holds the mix (equal to the pixel where smooth).
+                assert_eq!(
+                    out[c],
+                    mix(alone[c - 1], alone[c], alone[c + 1]),
+                    "{label} ({c}, {row})"
+                );
+                filtered += 1;
+            } else if !alike || least < 0.98 * FAR_COC_PIXELS {
+                assert_eq!(out[c], alone[c], "{label} ({c}, {row})");
+                held += 1;
+            }
+        }
+    }
+    (filtered, held)
+}
+
+/// The generator's lens scenes in both number types: the filter acts exactly
+/// where the circles of confusion say, and both cases occur.
+#[test]
+fn the_filter_acts_only_where_everything_is_far_out_of_focus() {
+    let (mut filtered, mut held) = (0, 0);
+    for seed in 7000..7024 {
+        let text = lensray_testkit::scenegen::generate_lens(seed);
+        let mut q = Scene::<I16F16>::parse(&text).unwrap();
+        if q.camera.radius <= 0.0 {
+            continue;
+        }
+        // The default render whatever the scene says; at least the adaptive minimum.
+        let point = q
+            .camera
+            .samples
+            .max(lensray::unstable::render::scanline::FILTER_MIN_POINT);
+        q.camera.sampler = Sampler::Stratified;
+        q.camera.adaptive = true;
+        q.camera.samples = point;
+        let mut f = Scene::<f32>::parse(&text).unwrap();
+        f.camera.sampler = Sampler::Stratified;
+        f.camera.adaptive = true;
+        f.camera.samples = point;
+        for (a, b) in [
+            check(&q, 40, 30, &format!("seed {seed} Q16.16")),
+            check(&f, 40, 30, &format!("seed {seed} f32")),
+        ] {
+            filtered += a;
+            held += b;
+        }
+    }
+    assert!(filtered > 1000 && held > 1000, "{filtered} filtered, {held} held back");
+}
+
+/// A sphere in focus before a wall far out of focus: every pixel whose rays
+/// or whose neighbours' rays meet the sphere keeps its own value (its edge
+/// stays exact), and the wall's pixels away from it are filtered.
+#[test]
+fn an_edge_in_focus_stays_exact() {
+    let text = "point 40\nradius 1.5\nfocal_length 4\nimage_distance 8\n\
+                light_position 0 0 10\nlight_intensity 1 1 1\nambient_light 0.3 0.3 0.3\n\
+                object sphere\nKd 0.8 0.2 0.2\nscale 1.5 1.5 1.5\ntranslate 0 0 -8\n\
+                object plane\ntexture 1\nKa 0.3 0.3 0.3\nKd 0.5 0.5 0.9\ntranslate 0 0 -30\n";
+    let scene = Scene::<I16F16>::parse(text).unwrap();
+    let (w, h) = (48, 36);
+    let r = Renderer::new(&scene, w, h);
+    assert!(r.filters());
+    let (mut edge, mut wall) = (0, 0);
+    for row in 0..h {
+        let mut out = vec![Rgb888::BLACK; w as usize];
+        r.render_row(row, &mut out);
+        let near: Vec<bool> = (0..w)
+            .map(|c| smallest_coc(&r, &scene, c, row).0 < FAR_COC_PIXELS)
+            .collect();
+        for c in 0..w as usize {
+            let touches = near[c] || (c > 0 && near[c - 1]) || (c + 1 < w as usize && near[c + 1]);
+            if touches {
+                assert_eq!(out[c], r.pixel(c as u32, row), "({c}, {row})");
+                edge += 1;
+            } else if c > 0 && c + 1 < w as usize && out[c] != r.pixel(c as u32, row) {
+                wall += 1;
+            }
+        }
+    }
+    assert!(
+        edge > 100 && wall > 100,
+        "{edge} pixels at the sphere, {wall} wall pixels filtered"
+    );
+}
+
+/// Rows are the pixels alone with the independent sampler or adaptive
+/// sampling off (the converged references and the floors' yardstick).
+#[test]
+fn independent_and_non_adaptive_renders_are_not_filtered() {
+    let text = lensray_testkit::scenegen::generate_lens(6014);
+    for (sampler, adaptive) in [(Sampler::Independent, true), (Sampler::Stratified, false)] {
+        let mut scene = Scene::<I16F16>::parse(&text).unwrap();
+        scene.camera.sampler = sampler;
+        scene.camera.adaptive = adaptive;
+        scene.camera.samples = 24;
+        let r = Renderer::new(&scene, 32, 24);
+        assert!(!r.filters());
+        for row in 0..24 {
+            let mut out = vec![Rgb888::BLACK; 32];
+            r.render_row(row, &mut out);
+            let alone: Vec<Rgb888> = (0..32).map(|c| r.pixel(c, row)).collect();
+            assert_eq!(out, alone, "{sampler:?} adaptive {adaptive} row {row}");
+        }
+    }
+}
+
+/// The progressive passes end on the plain render where rows are filtered
+/// (the last pass redraws the coarser grids' rows), in both number types.
+#[test]
+fn progressive_passes_end_on_the_filtered_picture() {
+    fn go<S: Scalar>(text: &str) {
+        let scene = Scene::<S>::parse(text).unwrap();
+        let r = Renderer::new(&scene, 40, 30);
+        assert!(r.filters());
+        let mut display = MockDisplay::<Rgb888>::new();
+        display.set_allow_overdraw(true);
+        for pass in progressive::Schedule::new(8, 1, r.rays_per_pixel()) {
+            progressive::render_pass(&r, &mut display, &pass).unwrap();
+        }
+        let mut plain = MockDisplay::<Rgb888>::new();
+        lensray::render_with(&r, &mut plain).unwrap();
+        display.assert_eq(&plain);
+        let mut unfiltered = 0;
+        for row in 0..30 {
+            let mut out = vec![Rgb888::BLACK; 40];
+            r.render_row(row, &mut out);
+            unfiltered += (0..40).filter(|&c| out[c as usize] != r.pixel(c, row)).count();
+        }
+        assert!(unfiltered > 50, "the scene is filtered: {unfiltered} pixels");
+    }
+    let text = lensray_testkit::scenegen::generate_lens(6014).replace("adaptive off", "adaptive on")
+        + "\nsampler stratified\nadaptive on\n";
+    go::<I16F16>(&text);
+    go::<f32>(&text);
+}

@@ -1,0 +1,225 @@
+//! The scanline filter: a 3-tap filter along the row where a pixel and both
+//! its neighbours see only what is far out of focus.
+//!
+//! A point at depth z is spread on the film over a circle of confusion of
+//! diameter 2aN |1/z_f − 1/z| (a the lens radius, N the image distance, z_f
+//! the depth in focus): K |1 − 1/u| pixels, with u = z/z_f and K = 2aN/(z_f p)
+//! for a pixel pitch p. Where everything a pixel's rays meet is spread over
+//! at least [`FAR_COC_PIXELS`] pixels, the converged picture changes by at
+//! most about a quarter of its contrast from one pixel to the next and is
+//! nearly linear over three of them, while each pixel's lens integral is
+//! still noisy (a frame of near objects, nothing in focus: stratification
+//! barely helps there and adaptive sampling stops early). Averaging such a
+//! pixel with its neighbours, (1, 2, 1)/4, takes 62 % of the noise's variance
+//! away (4.3 dB) at a bias of a quarter of the curvature. A pixel whose rays
+//! or whose neighbours' rays meet anything sharper keeps its own value: an
+//! edge in focus stays exact. A miss counts as a point at infinity. Lamps
+//! (bright objects, [`crate::render::footprint::BRIGHT`]) are apart: the
+//! bound above is a share of the contrast, and a lamp's bokeh, clamped to
+//! white, has a sharp rim however blurred. So a pixel is filtered only with
+//! neighbours whose rays all met lamps as its own did, or all met none; one
+//! whose rays met a lamp and something else is on a rim and never filtered.
+//!
+//! Three pixels of state, no row buffer: [`Scanline`] yields a row's pixels
+//! in order, one pixel ahead. The gate is the same comparison in either number
+//! type and the mix is in integers on the 8-bit pixels. On with the default
+//! stratified, adaptive sampling (from [`FILTER_MIN_POINT`] samples), off
+//! with `sampler independent` or `adaptive off`: see
+//! [`crate::Renderer::filters`].
+//! Measured in `host-tests/examples/coc_filter_probe.rs` (BENCHMARKS.md).
+
+use crate::camera::CameraParams;
+use crate::geometry::vec3::Vec3;
+use crate::number::Scalar;
+use crate::render::defocus::Defocus;
+use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
+
+/// The smallest circle of confusion, in pixels, that lets a pixel be
+/// filtered (4: no lens scene of scenes/ lost at 320×240 and generated
+/// frames gained about the most; 2 lost 1.9 dB on `paper-fig8-pinhole`).
+pub const FAR_COC_PIXELS: f64 = 4.0;
+
+/// The fewest samples a pixel must have for rows to be filtered: where the
+/// filter was measured (the campaign judges frames from `point` 20; the
+/// micro:bit, without the filter, is tested at 4 samples, bit for bit).
+pub const FILTER_MIN_POINT: u32 = 20;
+
+/// K / T: the circle of confusion of a point at infinity in pixels of an
+/// image `cols` wide, over [`FAR_COC_PIXELS`]; 0 for a pinhole or a camera
+/// focused nowhere. Set-up only, in f64.
+pub fn far_ratio(cam: &CameraParams, cols: u32) -> f64 {
+    let z_f = cam.focus_depth();
+    let p = cam.width / cols.max(1) as f64;
+    let k = 2.0 * cam.radius * cam.image_distance / (z_f * p);
+    if k.is_finite() && k > 0.0 {
+        // Q16.16's range: a ratio beyond it filters as much as any.
+        k.min(16384.0) / FAR_COC_PIXELS
+    } else {
+        0.0
+    }
+}
+
+impl<S: Scalar> Defocus<S> {
+    /// This defocus with the scanline filter's gate for `cam` at `cols` pixels across.
+    pub fn with_far(mut self, cam: &CameraParams, cols: u32) -> Self {
+        self.far = if self.radius() == S::ZERO {
+            S::ZERO
+        } else {
+            S::from_f64(far_ratio(cam, cols))
+        };
+        self
+    }
+
+    /// Whether a point at distance `t` along unit `d` is spread over at least
+    /// [`FAR_COC_PIXELS`]: K |1 − 1/u| >= T, as (K/T) |u − 1| > u for u > 0.
+    #[inline]
+    pub fn far_hit(&self, d: Vec3<S>, t: S) -> bool {
+        let u = self.depth_ratio(d, t);
+        u > S::ZERO && self.far.mul(u.sub(S::ONE).abs()) > u
+    }
+
+    /// Whether a miss (a point at infinity, spread over K pixels) is far out of focus.
+    #[inline]
+    pub fn far_miss(&self) -> bool {
+        self.far > S::ONE
+    }
+}
+
+/// `(a + 2b + c + 2) / 4`, per channel.
+#[inline]
+fn mix(a: Rgb888, b: Rgb888, c: Rgb888) -> Rgb888 {
+    let m = |x: u8, y: u8, z: u8| ((x as u16 + 2 * y as u16 + z as u16 + 2) >> 2) as u8;
+    Rgb888::new(m(a.r(), b.r(), c.r()), m(a.g(), b.g(), c.g()), m(a.b(), b.b(), c.b()))
+}
+
+/// A row's pixels, filtered, in order from column 0 (see the module): from
+/// `pixel`, which renders column c as its colour, its rays and its class: 0
+/// where some ray met something within [`FAR_COC_PIXELS`] (see
+/// [`Defocus::far_hit`]) or met both a lamp and something else, else 1 if
+/// they all met lamps, 2 if none did. A pixel is filtered where it and both
+/// neighbours share a class other than 0.
+pub struct Scanline<F> {
+    pixel: F,
+    /// The next column to yield.
+    col: u32,
+    cols: u32,
+    /// Columns `col − 1`, `col` and `col + 1` as rendered, and their classes
+    /// (0 beyond the row's ends: no filter there).
+    window: [(Rgb888, u8); 3],
+    /// Lens rays cast so far.
+    rays: u32,
+}
+
+impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Scanline<F> {
+    /// The first `cols` pixels of a row of `pixel`.
+    pub fn new(pixel: F, cols: u32) -> Self {
+        Scanline {
+            pixel,
+            col: 0,
+            cols,
+            window: [(Rgb888::BLACK, 0); 3],
+            rays: 0,
+        }
+    }
+
+    /// The lens rays the pixels yielded so far (and the one ahead) cast.
+    pub fn rays(&self) -> u32 {
+        self.rays
+    }
+
+    fn render(&mut self, col: u32) -> (Rgb888, u8) {
+        let (c, n, class) = (self.pixel)(col);
+        self.rays = self.rays.saturating_add(n);
+        (c, class)
+    }
+}
+
+impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Iterator for Scanline<F> {
+    type Item = Rgb888;
+
+    fn next(&mut self) -> Option<Rgb888> {
+        let col = self.col;
+        if col >= self.cols {
+            return None;
+        }
+        if col == 0 {
+            self.window[1] = self.render(0);
+        }
+        self.window[2] = if col + 1 < self.cols {
+            self.render(col + 1)
+        } else {
+            (Rgb888::BLACK, 0)
+        };
+        let [a, b, c] = self.window;
+        self.window = [b, c, (Rgb888::BLACK, 0)];
+        self.col = col + 1;
+        Some(if b.1 != 0 && a.1 == b.1 && c.1 == b.1 {
+            mix(a.0, b.0, c.0)
+        } else {
+            b.0
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Random rows of random classes: a pixel is the mix exactly where it and
+    /// both neighbours share a class other than 0 (never at a row's ends),
+    /// else itself; every pixel is rendered once, in order, and its rays counted.
+    #[test]
+    fn a_pixel_is_mixed_only_between_neighbours_of_its_own_class() {
+        let mut next = crate::test_rng::xorshift32(0x5ca1_ab1e);
+        let (mut mixed, mut kept) = (0, 0);
+        for len in 1..40u32 {
+            let row: std::vec::Vec<(Rgb888, u32, u8)> = (0..len)
+                .map(|_| {
+                    let v = next();
+                    let c = Rgb888::new(v as u8, (v >> 8) as u8, (v >> 16) as u8);
+                    (c, next() % 70, [0, 1, 2, 2, 2][(next() % 5) as usize])
+                })
+                .collect();
+            let mut asked = std::vec::Vec::new();
+            let mut line = Scanline::new(
+                |col| {
+                    asked.push(col);
+                    row[col as usize]
+                },
+                len,
+            );
+            let out: std::vec::Vec<Rgb888> = (&mut line).collect();
+            assert_eq!(line.rays(), row.iter().map(|p| p.1).sum::<u32>());
+            assert_eq!(asked, (0..len).collect::<std::vec::Vec<_>>());
+            for c in 0..len as usize {
+                let inner = c > 0 && c + 1 < len as usize;
+                let class = row[c].2;
+                if inner && class != 0 && row[c - 1].2 == class && row[c + 1].2 == class {
+                    assert_eq!(out[c], mix(row[c - 1].0, row[c].0, row[c + 1].0), "len {len} col {c}");
+                    mixed += 1;
+                } else {
+                    assert_eq!(out[c], row[c].0, "len {len} col {c}");
+                    kept += 1;
+                }
+            }
+        }
+        assert!(mixed > 50 && kept > 50, "{mixed} mixed, {kept} kept");
+    }
+
+    /// (a + 2b + c + 2) / 4 per channel, against its definition in f64, rounded half up.
+    #[test]
+    fn mix_is_the_rounded_weighted_mean() {
+        let mut next = crate::test_rng::xorshift32(7);
+        for _ in 0..10_000 {
+            let p = |v: u32| Rgb888::new(v as u8, (v >> 8) as u8, (v >> 16) as u8);
+            let (a, b, c) = (p(next()), p(next()), p(next()));
+            let want = |x: u8, y: u8, z: u8| ((x as f64 + 2.0 * y as f64 + z as f64) / 4.0 + 0.5).floor() as u8;
+            let expected = Rgb888::new(
+                want(a.r(), b.r(), c.r()),
+                want(a.g(), b.g(), c.g()),
+                want(a.b(), b.b(), c.b()),
+            );
+            assert_eq!(mix(a, b, c), expected);
+        }
+    }
+}
