@@ -216,7 +216,11 @@ impl<S: Scalar> Object<S> {
             } else {
                 S::ZERO
             },
-            to_object: Affine::from_mat(&inv),
+            to_object: Affine::from_mat(&match bound {
+                // f32 applies it to a ray's offset from the rounded centre (`LOCAL_FROM_CENTRE`).
+                Some((c, _)) if S::LOCAL_FROM_CENTRE => inv.after(&Mat34::translate(c.to_f64())),
+                _ => inv,
+            }),
             normal_to_world,
             bound,
             plane_normal: normal_to_world.vector_unit(Vec3::new(S::ZERO, S::ZERO, S::ONE)).0,
@@ -297,7 +301,15 @@ impl<S: Scalar> Object<S> {
         // Q16.16, its reciprocal all of them).
         // Re-origin the ray at the sphere's edge so object-space numbers stay small.
         let t_off = tc.sub(radius).max(S::ZERO);
-        let (lo, ld, len, inv_len) = self.local_ray(o, d, &precise, t_off);
+        let (lo, ld, len, inv_len) = if S::LOCAL_FROM_CENTRE {
+            // f32 (seed 14009): the start's offset from the centre, `t_off d − oc`,
+            // through rows made for that offset (`Object::new`).
+            let (ld, len, inv_len) = self.to_object.vector_unit(d);
+            let o_lo = S::origin_low(&precise).map_or(Vec3::new(S::ZERO, S::ZERO, S::ZERO), Vec3::from_array);
+            (self.to_object.point(d * t_off - (oc - o_lo)), ld, len, inv_len)
+        } else {
+            self.local_ray(o, d, &precise, t_off)
+        };
         if len == S::ZERO && inv_len == S::ZERO {
             return None;
         }
