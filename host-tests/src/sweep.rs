@@ -183,7 +183,10 @@ pub fn truth_sides(text: &str, width: u32, height: u32) -> (u32, u32, u32) {
             continue;
         }
         let (c, r) = (i as u32 % width, i as u32 / width);
-        let want = s64.pixel(c, r, width, height).rgb.map(|x| x.clamp(0.0, 255.0).round() as u8);
+        let want = s64
+            .pixel(c, r, width, height)
+            .rgb
+            .map(|x| x.clamp(0.0, 255.0).round() as u8);
         match (near(q, want), near(f, want)) {
             (true, false) => sides.0 += 1,
             (false, true) => sides.1 += 1,
