@@ -16,7 +16,12 @@ fn probe<S: Scalar>(text: &str, c: u32, r: u32) {
     let obj = &scene.objects()[i];
     let p = ray.origin + ray.dir.scale(hit.t);
     let (n, outside) = obj.facing_normal(&hit, ray.dir);
-    println!("{}: object {i} outside {outside} p {:?} n {:?}", S::NAME, p.to_f64(), n.to_f64());
+    println!(
+        "{}: object {i} outside {outside} p {:?} n {:?}",
+        S::NAME,
+        p.to_f64(),
+        n.to_f64()
+    );
     let ps = p + n.scale(S::HIT_EPSILON);
     for (k, light) in scene.lights().iter().enumerate() {
         let to = light.position - p;
@@ -28,7 +33,10 @@ fn probe<S: Scalar>(text: &str, c: u32, r: u32) {
             .enumerate()
             .filter_map(|(j, o)| o.intersect(ps, l, S::HIT_EPSILON, dist).map(|h| (j, h.t.to_f64())))
             .collect();
-        println!("  light {k}: n.l {ndl:.3e} dist {:.3} blockers {blockers:?}", dist.to_f64());
+        println!(
+            "  light {k}: n.l {ndl:.3e} dist {:.3} blockers {blockers:?}",
+            dist.to_f64()
+        );
         // The same ray, as f64 numbers, into the other type's objects.
         let f = Scene::<f32>::parse(text).expect("parse");
         let v = |x: Vec3<S>| Vec3::<f32>::from_f64(x.to_f64());
@@ -36,7 +44,10 @@ fn probe<S: Scalar>(text: &str, c: u32, r: u32) {
             .objects()
             .iter()
             .enumerate()
-            .filter_map(|(j, o)| o.intersect(v(ps), v(l), 1.0 / 1024.0, dist.to_f64() as f32).map(|h| (j, h.t as f64)))
+            .filter_map(|(j, o)| {
+                o.intersect(v(ps), v(l), 1.0 / 1024.0, dist.to_f64() as f32)
+                    .map(|h| (j, h.t as f64))
+            })
             .collect();
         println!("    the same ray in f32: {other:?}");
     }
