@@ -1,5 +1,7 @@
 //! A pinhole pixel's shadow rays, object by object, in both types:
 //! `shadow_probe FILE COL ROW` (160x120): which object blocks which light.
+//! P is `o + t d` from the rounded direction (as shading took it before
+//! fix 13 of docs/accuracy.md).
 use lensray::{CameraSample, Scalar, Scene, Vec3, I16F16};
 
 fn probe<S: Scalar>(text: &str, c: u32, r: u32) {
