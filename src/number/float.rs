@@ -208,9 +208,10 @@ impl Kernels for f32 {
         t_max: Self,
         _checker: (Self, Self),
         _eye: Option<[Self; 4]>,
+        face: (usize, i8),
     ) -> Option<(Self, Self, Self)> {
         // f32 holds far coordinates itself.
-        plane_hit_f32(rows, o, &d, t_min, t_max)
+        plane_hit_f32(rows, o, &d, t_min, t_max, face)
     }
     #[inline]
     fn acc_zero() -> f64 {
@@ -320,15 +321,23 @@ impl FloatFilmMap {
 
 /// [`plane_hit`](crate::number::plane::plane_hit) in `f32`: the same plane through the same rows, with `d` of
 /// any length.
-fn plane_hit_f32(rows: &[[f32; 4]; 3], o: [f32; 3], d: &FloatDir, t_min: f32, t_max: f32) -> Option<(f32, f32, f32)> {
+fn plane_hit_f32(
+    rows: &[[f32; 4]; 3],
+    o: [f32; 3],
+    d: &FloatDir,
+    t_min: f32,
+    t_max: f32,
+    face: (usize, i8),
+) -> Option<(f32, f32, f32)> {
     let (d, o_lo) = (d.d, d.o_lo);
     let ld = rows.map(|r| <f32 as Kernels>::row_apply(&r, d, false));
-    if ld[2] == 0.0 {
+    let k = face.0.min(2);
+    if ld[k] == 0.0 {
         return None;
     }
     let lo = rows.map(|r| <f32 as Kernels>::row_apply(&r, o, true) + <f32 as Kernels>::row_apply(&r, o_lo, false));
     // s in units of ld, t in world units.
-    let s = -lo[2] / ld[2];
+    let s = -(lo[k] - face.1 as f32) / ld[k];
     let t = s * <f32 as Kernels>::length3(d);
     if !(t > t_min && t < t_max) {
         return None;

@@ -171,6 +171,10 @@ mod kernels {
         /// [`Kernels::checker_cell`] takes them (side 0: none): for a hit beyond
         /// the type's range, x and y may come back as another point of the true
         /// hit's checker parity (Q16.16; a plane's x and y serve only its texture).
+        /// `face` `(axis, ±1)` meets instead the plane where object coordinate
+        /// `axis` is ±1 (a cube's face met at grazing; `eye` then `None`):
+        /// `(2, 0)` for the plane itself.
+        #[allow(clippy::too_many_arguments)]
         fn plane_hit(
             rows: &[Self::Row; 3],
             o: [Self; 3],
@@ -179,6 +183,7 @@ mod kernels {
             t_max: Self,
             checker: (Self, Self),
             eye: Option<[Self; 4]>,
+            face: (usize, i8),
         ) -> Option<(Self, Self, Self)>;
 
         /// What [`Kernels::plane_hit`] computes from the origin alone, for a
