@@ -1,8 +1,9 @@
 //! Random-scene sweeps: every generated scene (see [`crate::scenegen`])
 //! rendered in Q16.16 and in f32, and the distribution of their differences.
 //!
-//! The f32 renderer matches an independent float64 evaluation, so a scene's
-//! PSNR here is the cost of fixed point alone. Lens scenes take a fixed number
+//! The f32 renderer matches an independent float64 evaluation on most
+//! pixels ([`truth_sides`] says where it does not), so a scene's PSNR here
+//! is mostly the cost of fixed point. Lens scenes take a fixed number
 //! of samples (16) and adaptive sampling off: the sweep measures the number
 //! type, not the sampler's stopping rule.
 
@@ -154,4 +155,43 @@ impl fmt::Display for Summary {
         }
         Ok(())
     }
+}
+
+/// Which number type float64 (`crate::reference64`) sides with where a
+/// pinhole scene's Q16.16 and f32 pixels differ by more than 2 levels at
+/// `width` × `height`: (Q16.16 within 2 levels of f64 and f32 not, f32 and
+/// not Q16.16, neither or both). A sweep's failure with most pixels on
+/// Q16.16's side is the reference's error, not fixed point's.
+///
+/// # Panics
+///
+/// If the text does not parse.
+pub fn truth_sides(text: &str, width: u32, height: u32) -> (u32, u32, u32) {
+    use embedded_graphics::pixelcolor::RgbColor;
+    let mut fixed = Scene::<I16F16>::parse(text).expect("parse");
+    let mut float = Scene::<f32>::parse(text).expect("parse");
+    fixed.camera.adaptive = false;
+    float.camera.adaptive = false;
+    let s64 = crate::reference64::Scene64::parse(text);
+    let (a, b) = render_both(&fixed, &float, width, height, None);
+    let rgb = |p: embedded_graphics::pixelcolor::Rgb888| [p.r(), p.g(), p.b()];
+    let near = |x: [u8; 3], y: [u8; 3]| (0..3).all(|k| x[k].abs_diff(y[k]) <= 2);
+    let mut sides = (0, 0, 0);
+    for (i, (&pa, &pb)) in a.pixels.iter().zip(&b.pixels).enumerate() {
+        let (q, f) = (rgb(pa), rgb(pb));
+        if near(q, f) {
+            continue;
+        }
+        let (c, r) = (i as u32 % width, i as u32 / width);
+        let want = s64
+            .pixel(c, r, width, height)
+            .rgb
+            .map(|x| x.clamp(0.0, 255.0).round() as u8);
+        match (near(q, want), near(f, want)) {
+            (true, false) => sides.0 += 1,
+            (false, true) => sides.1 += 1,
+            _ => sides.2 += 1,
+        }
+    }
+    sides
 }

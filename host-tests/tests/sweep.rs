@@ -70,7 +70,7 @@ fn under(files: &[std::path::PathBuf], psnr: f64, within2: f64, line: f64) -> Ve
 #[test]
 fn every_regression_scene_meets_the_floors() {
     let files = corpus("sweep-regressions");
-    assert!(files.len() >= 59, "the corpus lost scenes");
+    assert!(files.len() >= 63, "the corpus lost scenes");
     let bad = under(&files, MIN_PSNR, MIN_WITHIN2, MAX_LINE_160);
     assert!(bad.is_empty(), "under the floors: {bad:?}");
 }
@@ -80,14 +80,17 @@ fn every_regression_scene_meets_the_floors() {
 /// measured when filed, with a small margin), so that none can get worse unseen.
 #[test]
 fn open_regression_scenes_get_no_worse() {
-    const HELD: [(&str, f64, f64, f64); 7] = [
-        ("seed-5014-pinhole", 40.5, 0.999, 2.45),
+    const HELD: [(&str, f64, f64, f64); 10] = [
         ("seed-5116-pinhole", 47.0, 0.999, 2.2),
-        ("seed-9206-pinhole", 43.8, 0.999, 3.7),
+        ("seed-9206-pinhole", 46.4, 0.999, 3.4),
         ("seed-12124-pinhole", 45.7, 0.999, 2.15),
         ("seed-13193-pinhole", 38.6, 0.999, 2.2),
-        ("seed-14009-pinhole", 42.5, 0.999, 2.2),
         ("seed-14296-pinhole", 54.0, 0.997, 3.1),
+        ("seed-16044-pinhole", 43.0, 0.999, 2.25),
+        ("seed-16119-pinhole", 45.6, 0.996, 11.5),
+        ("seed-17035-pinhole", 43.3, 0.999, 2.2),
+        ("seed-19249-pinhole", 49.2, 0.999, 2.4),
+        ("seed-19271-pinhole", 50.3, 0.998, 3.6),
     ];
     let files = corpus("sweep-regressions/open");
     assert_eq!(files.len(), HELD.len(), "a file without its limits, or a lost one");

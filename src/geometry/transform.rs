@@ -182,6 +182,7 @@ impl<S: Scalar> Affine<S> {
     /// `Kernels::plane_hit`), for `t_min < t < t_max`, with its texture's
     /// (side, scale) for hits beyond the range.
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     pub fn plane_hit(
         &self,
         o: Vec3<S>,
@@ -190,8 +191,9 @@ impl<S: Scalar> Affine<S> {
         t_max: S,
         checker: (S, S),
         eye: Option<[S; 4]>,
+        face: (usize, i8),
     ) -> Option<(S, S, S)> {
-        S::plane_hit(&self.rows, o.to_array(), d, t_min, t_max, checker, eye)
+        S::plane_hit(&self.rows, o.to_array(), d, t_min, t_max, checker, eye, face)
     }
 
     /// `Kernels::plane_from_eye` of this object's rows. Set-up only.

@@ -470,8 +470,9 @@ impl Kernels for I16F16 {
         t_max: Self,
         checker: (Self, Self),
         eye: Option<[Self; 4]>,
+        face: (usize, i8),
     ) -> Option<(Self, Self, Self)> {
-        crate::number::plane::plane_hit(rows, o, d, t_min, t_max, checker, eye)
+        crate::number::plane::plane_hit(rows, o, d, t_min, t_max, checker, eye, face)
     }
     fn plane_from_eye(rows: &[FixedRow; 3], eye: [f64; 3]) -> Option<[Self; 4]> {
         // The eye rounded as the camera rounds it, and its bits below as the film map holds them.

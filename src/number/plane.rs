@@ -157,7 +157,9 @@ pub(crate) fn to_unit(d: FixedDir) -> Option<FixedDir> {
 /// unit vector; see [`to_unit`]) and (x, y, 0) the object-space point.
 /// `checker` is the plane's (side, scale) as `Kernels::checker_cell` takes
 /// them (side 0: none): for a hit beyond the range, x and y come back as a
-/// point of the true hit's checker parity (see [`far_xy`]).
+/// point of the true hit's checker parity (see [`far_xy`]). `face` is
+/// `Kernels::plane_hit`'s: `(2, 0)` for the plane.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn plane_hit(
     rows: &[FixedRow; 3],
     o: [I16F16; 3],
@@ -166,10 +168,17 @@ pub(crate) fn plane_hit(
     t_max: I16F16,
     checker: (I16F16, I16F16),
     eye: Option<[I16F16; 4]>,
+    face: (usize, i8),
 ) -> Option<(I16F16, I16F16, I16F16)> {
     let d = if d.unit && d.e == -30 { d } else { to_unit(d)? };
+    // A cube's face: its row, the plane where it is ±1.
+    let row = match face.0 {
+        0 => &rows[0],
+        1 => &rows[1],
+        _ => &rows[2],
+    };
     // How fast the object's z changes per unit of world distance.
-    let dz = dot(&rows[2], &d.m);
+    let dz = dot(row, &d.m);
     if dz == 0 {
         return None;
     }
@@ -180,7 +189,14 @@ pub(crate) fn plane_hit(
     let z = match eye {
         // A chief ray: the same origin terms for every pixel, from set-up.
         Some(e) => ((e[3].to_bits() as i64) << 32) | e[2].to_bits() as u32 as i64,
-        None => origin_z(rows, o, &d.o_lo),
+        None => {
+            let z = origin_z(row, o, &d.o_lo);
+            if face.1 == 0 {
+                z
+            } else {
+                z - ((face.1 as i64) << (row.shift + 16))
+            }
+        }
     };
     // Most origins fit 32 bits: no bit count then (a binary search on the M0).
     let (oz, k) = if z.unsigned_abs() >> 32 == 0 {
@@ -217,11 +233,11 @@ pub(crate) fn plane_hit(
 /// The origin's exact object-space z at the row's scale 2^-(16 + shift),
 /// with its bits below Q16.16 where it has any.
 #[inline]
-fn origin_z(rows: &[FixedRow; 3], o: [I16F16; 3], o_lo: &[i16; 3]) -> i64 {
-    let z = rows[2].exact(o, true);
+fn origin_z(row: &FixedRow, o: [I16F16; 3], o_lo: &[i16; 3]) -> i64 {
+    let z = row.exact(o, true);
     // An origin on the Q16.16 grid (every ray but a chief ray from an eye off it) has nothing below.
     if *o_lo != [0; 3] {
-        z + origin_low(&rows[2], o_lo)
+        z + origin_low(row, o_lo)
     } else {
         z
     }
@@ -253,7 +269,7 @@ pub(crate) fn below_q16(x: f64) -> i16 {
 /// (`origin_z`, low word then high word), from the eye `o` and its bits
 /// below, `o_lo`. Set-up only.
 pub(crate) fn plane_from_eye(rows: &[FixedRow; 3], o: [I16F16; 3], o_lo: [i16; 3]) -> [I16F16; 4] {
-    let z = origin_z(rows, o, &o_lo);
+    let z = origin_z(&rows[2], o, &o_lo);
     [
         rows[0].apply(o, true),
         rows[1].apply(o, true),
@@ -326,6 +342,19 @@ mod tests {
     use super::*;
     use crate::geometry::transform::Mat34;
     use crate::number::{Kernels, Scalar};
+
+    /// The kernel for the plane itself.
+    fn plane_hit(
+        rows: &[FixedRow; 3],
+        o: [I16F16; 3],
+        d: FixedDir,
+        t_min: I16F16,
+        t_max: I16F16,
+        checker: (I16F16, I16F16),
+        eye: Option<[I16F16; 4]>,
+    ) -> Option<(I16F16, I16F16, I16F16)> {
+        super::plane_hit(rows, o, d, t_min, t_max, checker, eye, (2, 0))
+    }
 
     /// [`saturates`] agrees with the bit count it replaces, at every exponent
     /// and around every power of two as well as at random.

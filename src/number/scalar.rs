@@ -95,6 +95,11 @@ mod kernels {
         /// direction, 150 units on, moved a small blocker's shadow edge by a
         /// pixel). f32 keeps the unit direction; its images stay as they were.
         const SHADOW_PRECISE_DIR: bool;
+        /// Whether a bounded shape's object-space origin is the linear part
+        /// applied to the ray's offset from the object's centre (f32: the
+        /// offset is small where the world coordinates are not, so it keeps
+        /// the bits a re-origin at 60 units and a translation of 190 lose).
+        const LOCAL_FROM_CENTRE: bool = false;
 
         /// The checker's scale for a square side `side` (> 0), as
         /// [`Kernels::checker_cell`] takes it: `1 / side` by default. Set-up only.
@@ -142,6 +147,11 @@ mod kernels {
         type Dir: Copy + core::fmt::Debug + PartialEq + Send + Sync;
         /// A vector as a precise direction, exactly.
         fn dir_from(v: [Self; 3]) -> Self::Dir;
+        /// The ray's origin's bits below `Self` where the precise direction
+        /// carries them for the centre-relative origin (`LOCAL_FROM_CENTRE`, f32).
+        fn origin_low(_d: &Self::Dir) -> Option<[Self; 3]> {
+            None
+        }
         /// A camera's exact map from pixels to its rays' directions (see [`crate::number::film`]).
         type FilmMap: Copy + core::fmt::Debug + Send + Sync;
         /// A pixel's chief direction as the film map gives it, before the lens.
@@ -161,6 +171,10 @@ mod kernels {
         /// [`Kernels::checker_cell`] takes them (side 0: none): for a hit beyond
         /// the type's range, x and y may come back as another point of the true
         /// hit's checker parity (Q16.16; a plane's x and y serve only its texture).
+        /// `face` `(axis, ±1)` meets instead the plane where object coordinate
+        /// `axis` is ±1 (a cube's face met at grazing; `eye` then `None`):
+        /// `(2, 0)` for the plane itself.
+        #[allow(clippy::too_many_arguments)]
         fn plane_hit(
             rows: &[Self::Row; 3],
             o: [Self; 3],
@@ -169,6 +183,7 @@ mod kernels {
             t_max: Self,
             checker: (Self, Self),
             eye: Option<[Self; 4]>,
+            face: (usize, i8),
         ) -> Option<(Self, Self, Self)>;
 
         /// What [`Kernels::plane_hit`] computes from the origin alone, for a

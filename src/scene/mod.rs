@@ -232,7 +232,11 @@ impl<S: Scalar> Object<S> {
             } else {
                 S::ZERO
             },
-            to_object: Affine::from_mat(&inv),
+            to_object: Affine::from_mat(&match bound {
+                // f32 applies it to a ray's offset from the rounded centre (`LOCAL_FROM_CENTRE`).
+                Some((c, _)) if S::LOCAL_FROM_CENTRE => inv.after(&Mat34::translate(c.to_f64())),
+                _ => inv,
+            }),
             normal_to_world,
             bound,
             plane_normal: normal_to_world.vector_unit(Vec3::new(S::ZERO, S::ZERO, S::ONE)).0,
@@ -282,19 +286,55 @@ impl<S: Scalar> Object<S> {
         t_max: S,
         eye: Option<[S; 4]>,
     ) -> Option<Hit<S>> {
-        if self.shape == Shape::Plane {
-            // Unbounded plane: from the ray's own origin, with the precise
-            // direction (a grazing hit 100 away moves by 100² times its error).
-            let (t, x, y) =
-                self.to_object
-                    .plane_hit(o, precise, t_min, t_max, (self.texture, self.inv_texture), eye)?;
-            let local = LocalHit {
-                t,
-                p: Vec3::new(x, y, S::ZERO),
-                n: Vec3::new(S::ZERO, S::ZERO, S::ONE),
-            };
-            return Some(Hit { t, local });
+        // One call of the plane kernel (the M0's flash): the plane's, or a
+        // cube's face met at grazing (Q16.16, `bounded_from`).
+        let (face, hit, limits, checker) = if self.shape == Shape::Plane {
+            ((2, 0), None, (t_min, t_max), (self.texture, self.inv_texture))
+        } else {
+            let (hit, face) = self.bounded_from(o, d, &precise, t_min, t_max)?;
+            if face.1 == 0 {
+                return Some(hit);
+            }
+            (face, Some(hit), (S::ZERO, S::MAX), (S::ZERO, S::ZERO))
+        };
+        // Unbounded plane: from the ray's own origin, with the precise
+        // direction (a grazing hit 100 away moves by 100² times its error).
+        let plane = self
+            .to_object
+            .plane_hit(o, precise, limits.0, limits.1, checker, eye, face);
+        match hit {
+            None => {
+                let (t, x, y) = plane?;
+                let local = LocalHit {
+                    t,
+                    p: Vec3::new(x, y, S::ZERO),
+                    n: Vec3::new(S::ZERO, S::ZERO, S::ONE),
+                };
+                Some(Hit { t, local })
+            }
+            Some(mut hit) => {
+                // The face's t from the exact ray (seed 17170: 5e-4 late, behind a plane).
+                hit.t = plane.map_or(hit.t, |p| p.0);
+                (hit.t > t_min && hit.t < t_max).then_some(hit)
+            }
         }
+    }
+
+    /// [`Object::intersect_from`] for the bounded shapes: the hit (its world
+    /// t in the range widened for a grazing cube face), with `(axis, ±1)`
+    /// for a cube's face met at a slope under 1/8 in Q16.16 (the rounded
+    /// object-space ray's 2⁻¹⁷ divided by it: its t is taken again from the
+    /// face's plane), else `(2, 0)`.
+    #[inline(always)]
+    fn bounded_from(
+        &self,
+        o: Vec3<S>,
+        d: Vec3<S>,
+        precise: &S::Dir,
+        t_min: S,
+        t_max: S,
+    ) -> Option<(Hit<S>, (usize, i8))> {
+        let precise = *precise;
         // Every other shape has a bounding sphere (checked when it is made).
         let (center, radius) = self.bound?;
         // Cheap reject against the world bounding sphere.
@@ -313,7 +353,15 @@ impl<S: Scalar> Object<S> {
         // Q16.16, its reciprocal all of them).
         // Re-origin the ray at the sphere's edge so object-space numbers stay small.
         let t_off = tc.sub(radius).max(S::ZERO);
-        let (lo, ld, len, inv_len) = self.local_ray(o, d, &precise, t_off);
+        let (lo, ld, len, inv_len) = if S::LOCAL_FROM_CENTRE {
+            // f32 (seed 14009): the start's offset from the centre, `t_off d − oc`,
+            // through rows made for that offset (`Object::new`).
+            let (ld, len, inv_len) = self.to_object.vector_unit(d);
+            let o_lo = S::origin_low(&precise).map_or(Vec3::new(S::ZERO, S::ZERO, S::ZERO), Vec3::from_array);
+            (self.to_object.point(d * t_off - (oc - o_lo)), ld, len, inv_len)
+        } else {
+            self.local_ray(o, d, &precise, t_off)
+        };
         if len == S::ZERO && inv_len == S::ZERO {
             return None;
         }
@@ -321,11 +369,14 @@ impl<S: Scalar> Object<S> {
         let to_local = |t: S| if by_len { t.mul(len) } else { t.div(inv_len) };
         let to_world = |t: S| if by_len { t.div(len) } else { t.mul(inv_len) };
         let (mut lo, mut base, mut again, mut rim) = (lo, t_off, S::RECHECK, None);
+        let grazing = S::RECHECK && self.shape == Shape::Cube;
         // One call site of the shapes (the M0's flash): a second pass only
         // for a decision close to its boundary.
         let h = loop {
             let mut close = false;
             let (lt_min, lt_max) = (to_local(t_min.sub(base)), to_local(t_max.sub(base)));
+            // A cube's face at grazing may round late by up to this (taken again).
+            let lt_max = if grazing { lt_max.add(S::from_q15(512)) } else { lt_max };
             let h = self.shape.intersect_bounded(lo, ld, lt_min, lt_max, &mut close, rim);
             if !(again && close) {
                 break h?;
@@ -340,10 +391,23 @@ impl<S: Scalar> Object<S> {
             }
         };
         let t = base.add(to_world(h.t));
+        let mut face = (2, 0);
+        if grazing {
+            let (p, dl) = (h.p.to_array(), ld.to_array());
+            // Constant indices: no bounds check (and no panic code) on the M0.
+            let on = |i: usize, x: S, y: S| (x.abs() == S::ONE && y.abs() < S::from_q15(4096)).then_some((i, x));
+            if let Some((i, x)) = on(0, p[0], dl[0])
+                .or_else(|| on(1, p[1], dl[1]))
+                .or_else(|| on(2, p[2], dl[2]))
+            {
+                face = (i, if x > S::ZERO { 1 } else { -1 });
+                return Some((Hit { t, local: h }, face));
+            }
+        }
         if t <= t_min || t >= t_max {
             return None;
         }
-        Some(Hit { t, local: h })
+        Some((Hit { t, local: h }, face))
     }
 
     /// The object-space ray re-origined at `o + t_off d`, its unit direction

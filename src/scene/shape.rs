@@ -173,6 +173,7 @@ fn plane<S: Scalar>(o: Vec3<S>, d: Vec3<S>, t_min: S, t_max: S) -> Option<LocalH
         t_max,
         (S::ZERO, S::ZERO),
         None,
+        (2, 0),
     )?;
     Some(LocalHit {
         t,
