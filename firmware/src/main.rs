@@ -179,21 +179,18 @@ fn main() -> ! {
 #[inline(never)]
 fn report(paint: &stack_paint::Paint, console: &mut HostFile, rays: u32, ticks: [u64; 4], calibration: u64) -> ! {
     let [t0, t1, t2, t3] = ticks;
-    let report = Report {
-        head: REPORT_HEAD,
-        width: WIDTH,
-        height: HEIGHT,
+    let setup = instruction_count::instructions(t1 - t0);
+    let frame = instruction_count::instructions(t3 - t2);
+    exit(Report::measured(
+        REPORT_HEAD,
+        (WIDTH, HEIGHT),
         rays,
-        setup: instruction_count::instructions(t1 - t0),
-        frame: instruction_count::instructions(t3 - t2),
-        flash: stack_paint::flash() as u64,
-        static_ram: stack_paint::static_ram() as u64,
-        peak_stack: paint.peak_stack() as u64,
-        overflowed: paint.overflowed(),
-        ram: stack_paint::ram() as u64,
+        setup,
+        frame,
+        paint,
         calibration,
-    };
-    exit(if report.write(console).is_ok() { 0 } else { 1 })
+        console,
+    ))
 }
 
 #[cfg(feature = "parse-on-device")]

@@ -550,6 +550,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// picture has them: filtered where far out of focus (see [`scanline`]).
     pub fn scanline(&self, row: u32, cols: u32) -> scanline::Scanline<impl FnMut(u32) -> (Rgb888, u32, u8) + '_> {
         scanline::Scanline::new(move |col| self.pixel_far(col, row), cols.min(self.camera.cols()))
+            .with_filter(self.filters())
     }
 
     /// Whether rows are filtered where far out of focus (see [`scanline`]):

@@ -108,6 +108,8 @@ pub struct Scanline<F> {
     window: [(Rgb888, u8); 3],
     /// Lens rays cast so far.
     rays: u32,
+    /// Whether the row is filtered at all; without it each pixel is passed on as it comes.
+    filter: bool,
 }
 
 impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Scanline<F> {
@@ -119,7 +121,14 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Scanline<F> {
             cols,
             window: [(Rgb888::BLACK, 0); 3],
             rays: 0,
+            filter: true,
         }
+    }
+
+    /// The same row, filtered only if `filter` (else each pixel as it comes).
+    pub fn with_filter(mut self, filter: bool) -> Self {
+        self.filter = filter;
+        self
     }
 
     /// The lens rays the pixels yielded so far (and the one ahead) cast.
@@ -141,6 +150,11 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Iterator for Scanline<F> {
         let col = self.col;
         if col >= self.cols {
             return None;
+        }
+        if cfg!(feature = "no-scanline-filter") || !self.filter {
+            // No window where nothing is filtered: the micro:bit's flash and cycles.
+            self.col = col + 1;
+            return Some(self.render(col).0);
         }
         if col == 0 {
             self.window[1] = self.render(0);

@@ -26,7 +26,40 @@ pub struct Report<'a> {
     pub calibration: u64,
 }
 
-impl Report<'_> {
+impl<'a> Report<'a> {
+    /// Writes the report of a run whose memory `paint` measured; the exit
+    /// status: 0 written, 1 not. Here rather than in the firmware crate: run
+    /// once, compiled for size (the micro:bit's flash).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    pub fn measured(
+        head: &'a str,
+        size: (u32, u32),
+        rays: u32,
+        setup: u64,
+        frame: u64,
+        paint: &crate::stack_paint::Paint,
+        calibration: u64,
+        console: &mut HostFile,
+    ) -> u32 {
+        use crate::stack_paint as sp;
+        let report = Report {
+            head,
+            width: size.0,
+            height: size.1,
+            rays,
+            setup,
+            frame,
+            flash: sp::flash() as u64,
+            static_ram: sp::static_ram() as u64,
+            peak_stack: paint.peak_stack() as u64,
+            overflowed: paint.overflowed(),
+            ram: sp::ram() as u64,
+            calibration,
+        };
+        report.write(console).is_err() as u32
+    }
+
     /// Instructions a pixel, rounded.
     pub fn per_pixel(&self) -> u64 {
         let pixels = self.width as u64 * self.height as u64;
