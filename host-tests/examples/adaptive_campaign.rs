@@ -14,7 +14,24 @@
 
 use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
-use lensray_host::convergence::{measure, reference, Setting};
+use lensray_host::convergence::{measure, reference, Point, Setting};
+use lensray_host::Image;
+
+/// The converged reference of `text` at `w`x`h` and, against it, `point`
+/// independent samples, the default render, and stratified samples at 40 %
+/// of `point` on every pixel (what adaptive sampling must beat).
+fn judged(text: &str, w: u32, h: u32, ref_n: u32, point: u32) -> (Image, Point, Point, Point) {
+    let truth = reference(text, w, h, ref_n, Sampler::Stratified).unwrap();
+    let ind = measure(text, &truth, Setting::independent(point)).unwrap();
+    let def = measure(text, &truth, Setting::default_render(point)).unwrap();
+    let flat = Setting {
+        samples: (point * 2 / 5).max(1),
+        sampler: Sampler::Stratified,
+        adaptive: false,
+    };
+    let flat = measure(text, &truth, flat).unwrap();
+    (truth, ind, def, flat)
+}
 
 fn arg(i: usize, default: u64) -> u64 {
     std::env::args().nth(i).and_then(|a| a.parse().ok()).unwrap_or(default)
@@ -43,19 +60,7 @@ fn sweep(first: u64, count: u64, w: u32, h: u32, ref_n: u32, lo: u32, hi: u32) {
                 )
                 .collect::<Vec<_>>()
                 .join("\n");
-            let truth = reference(&text, w, h, ref_n, Sampler::Stratified).unwrap();
-            let ind = measure(&text, &truth, Setting::independent(p)).unwrap();
-            let def = measure(&text, &truth, Setting::default_render(p)).unwrap();
-            let flat = measure(
-                &text,
-                &truth,
-                Setting {
-                    samples: (p * 2 / 5).max(1),
-                    sampler: Sampler::Stratified,
-                    adaptive: false,
-                },
-            )
-            .unwrap();
+            let (_, ind, def, flat) = judged(&text, w, h, ref_n, p);
             let share = def.rays / p as f64;
             let margin = if def.psnr.is_infinite() {
                 f64::INFINITY
@@ -118,20 +123,7 @@ fn main() {
             .filter(|&(x, y)| r.bright_footprints().at_risk(x, y))
             .count() as f64
             / (w * h) as f64;
-        let truth = reference(&text, w, h, ref_n, Sampler::Stratified).unwrap();
-        let ind = measure(&text, &truth, Setting::independent(point)).unwrap();
-        let def = measure(&text, &truth, Setting::default_render(point)).unwrap();
-        // Stratified, every pixel at 40 % of point: what adaptive must beat.
-        let flat = measure(
-            &text,
-            &truth,
-            Setting {
-                samples: (point * 2 / 5).max(1),
-                sampler: Sampler::Stratified,
-                adaptive: false,
-            },
-        )
-        .unwrap();
+        let (truth, ind, def, flat) = judged(&text, w, h, ref_n, point);
         // Below `point` 20 the rule before issue 14's small-point round cast
         // every sample (stratified, not adaptive): that render, for comparison.
         let before = (point < lensray::unstable::render::ADAPTIVE_EIGHT_POINT).then(|| {

@@ -6,7 +6,7 @@
 //! `reference64`, the PSNR against it over all scenes, and the scenes whose
 //! f32 image has such pixels; with a hash of every f32 image.
 use embedded_graphics::pixelcolor::RgbColor;
-use lensray::{Scene, I16F16};
+
 use lensray_host::reference64::Scene64;
 use lensray_host::render_both;
 use lensray_host::sweep::scene_text;
@@ -32,10 +32,7 @@ fn main() {
     let mut tot = [[0f64; 2]; 2];
     let mut images = std::collections::hash_map::DefaultHasher::new();
     for (seed, text) in texts {
-        let mut fixed = Scene::<I16F16>::parse(&text).expect("parse");
-        let mut float = Scene::<f32>::parse(&text).expect("parse");
-        fixed.camera.adaptive = false;
-        float.camera.adaptive = false;
+        let (fixed, float) = lensray_host::both_unadaptive(&text);
         let s64 = Scene64::parse(&text);
         let (a, b) = render_both(&fixed, &float, w, h, None);
         let mut per = [[0f64; 2]; 2];

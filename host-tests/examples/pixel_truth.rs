@@ -4,7 +4,7 @@
 //! each hits, the margins of the decisions involved (object units) and the
 //! shadow rays' near blockers.
 use embedded_graphics::pixelcolor::RgbColor;
-use lensray::{CameraSample, Scene, I16F16};
+use lensray::{CameraSample, I16F16};
 use lensray_host::reference64::Scene64;
 use lensray_host::render_both;
 
@@ -12,10 +12,7 @@ fn main() {
     let (w, h) = (160u32, 120u32);
     for path in std::env::args().skip(1) {
         let text = std::fs::read_to_string(&path).expect("read");
-        let mut fixed = Scene::<I16F16>::parse(&text).expect("parse");
-        let mut float = Scene::<f32>::parse(&text).expect("parse");
-        fixed.camera.adaptive = false;
-        float.camera.adaptive = false;
+        let (fixed, float) = lensray_host::both_unadaptive(&text);
         let s64 = Scene64::parse(&text);
         let (a, b) = render_both(&fixed, &float, w, h, None);
         let rf = lensray::Renderer::new(&fixed, w, h);

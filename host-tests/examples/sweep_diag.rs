@@ -4,16 +4,13 @@
 //! where the other draws an object (the missing-horizon class).
 use embedded_graphics::pixelcolor::RgbColor;
 use lensray::CameraSample;
-use lensray::{Scene, I16F16};
+use lensray::Scene;
 use lensray_host::{render_both, Diff, LineErrors};
 
 fn main() {
     for path in std::env::args().skip(1) {
         let text = std::fs::read_to_string(&path).expect("read");
-        let mut fixed = Scene::<I16F16>::parse(&text).expect("parse");
-        let mut float = Scene::<f32>::parse(&text).expect("parse");
-        fixed.camera.adaptive = false;
-        float.camera.adaptive = false;
+        let (mut fixed, mut float) = lensray_host::both_unadaptive(&text);
         let samples = (fixed.camera.radius > 0.0).then_some(lensray_host::sweep::LENS_SAMPLES);
         let (w, h) = (160, 120);
         let (a, b) = render_both(&fixed, &float, w, h, samples);

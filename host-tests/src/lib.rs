@@ -214,6 +214,17 @@ pub fn load_scene<S: Scalar>(path: &Path) -> Result<Scene<S>, SceneError> {
     Scene::<S>::parse_bytes(&bytes).map_err(|e| SceneError(format!("{shown}:{}: {}", e.line, e.kind)))
 }
 
+/// `text` parsed in Q16.16 and f32 with adaptive sampling off: every pixel
+/// casts its samples, as the accuracy comparisons need. Panics on a bad scene
+/// (generated or corpus text: a bug, not input).
+pub fn both_unadaptive(text: &str) -> (Scene<lensray::I16F16>, Scene<f32>) {
+    let mut fixed = Scene::<lensray::I16F16>::parse(text).unwrap_or_else(|e| panic!("{e}"));
+    let mut float = Scene::<f32>::parse(text).unwrap_or_else(|e| panic!("{e}"));
+    fixed.camera.adaptive = false;
+    float.camera.adaptive = false;
+    (fixed, float)
+}
+
 /// A scene rendered in both number types at the same size and samples:
 /// Q16.16 first, the f32 reference second.
 pub fn render_both(

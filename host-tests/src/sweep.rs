@@ -9,8 +9,6 @@
 
 use std::fmt;
 
-use lensray::{Scene, I16F16};
-
 use crate::{render_both, Diff, LineErrors};
 use lensray_testkit::scenegen::{generate_with, Camera, Options};
 
@@ -62,10 +60,7 @@ pub fn scene_text(seed: u64, camera: Camera) -> String {
 ///
 /// If the text does not parse (the generator's scenes always do).
 pub fn measure(text: &str, seed: u64, width: u32, height: u32) -> SceneResult {
-    let mut fixed = Scene::<I16F16>::parse(text).unwrap_or_else(|e| panic!("seed {seed}: {e}"));
-    let mut float = Scene::<f32>::parse(text).unwrap_or_else(|e| panic!("seed {seed}: {e}"));
-    fixed.camera.adaptive = false;
-    float.camera.adaptive = false;
+    let (fixed, float) = crate::both_unadaptive(text);
     let lens = fixed.camera.radius > 0.0;
     let samples = lens.then_some(LENS_SAMPLES);
     let (a, b) = render_both(&fixed, &float, width, height, samples);
@@ -168,10 +163,7 @@ impl fmt::Display for Summary {
 /// If the text does not parse.
 pub fn truth_sides(text: &str, width: u32, height: u32) -> (u32, u32, u32) {
     use embedded_graphics::pixelcolor::RgbColor;
-    let mut fixed = Scene::<I16F16>::parse(text).expect("parse");
-    let mut float = Scene::<f32>::parse(text).expect("parse");
-    fixed.camera.adaptive = false;
-    float.camera.adaptive = false;
+    let (fixed, float) = crate::both_unadaptive(text);
     let s64 = crate::reference64::Scene64::parse(text);
     let (a, b) = render_both(&fixed, &float, width, height, None);
     let rgb = |p: embedded_graphics::pixelcolor::Rgb888| [p.r(), p.g(), p.b()];

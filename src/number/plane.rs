@@ -343,18 +343,8 @@ mod tests {
     use crate::geometry::transform::Mat34;
     use crate::number::{Kernels, Scalar};
 
-    /// The kernel for the plane itself.
-    fn plane_hit(
-        rows: &[FixedRow; 3],
-        o: [I16F16; 3],
-        d: FixedDir,
-        t_min: I16F16,
-        t_max: I16F16,
-        checker: (I16F16, I16F16),
-        eye: Option<[I16F16; 4]>,
-    ) -> Option<(I16F16, I16F16, I16F16)> {
-        super::plane_hit(rows, o, d, t_min, t_max, checker, eye, (2, 0))
-    }
+    /// The kernel's face argument for the plane itself.
+    const PLANE: (usize, i8) = (2, 0);
 
     /// [`saturates`] agrees with the bit count it replaces, at every exponent
     /// and around every power of two as well as at random.
@@ -444,7 +434,7 @@ mod tests {
                 o_lo,
             };
             let checker = (I16F16::from_f64(0.5), <I16F16 as Kernels>::checker_scale(0.5));
-            let from = |eye| plane_hit(&rows, o, d, I16F16::from_bits(64), I16F16::MAX, checker, eye);
+            let from = |eye| plane_hit(&rows, o, d, I16F16::from_bits(64), I16F16::MAX, checker, eye, PLANE);
             let want = from(None);
             hits += want.is_some() as u32;
             assert_eq!(
@@ -490,8 +480,16 @@ mod tests {
                 unit: true,
                 o_lo: [0; 3],
             };
-            let Some((_, x, y)) = plane_hit(&rows, o, d, I16F16::from_bits(64), I16F16::MAX, (side, scale), None)
-            else {
+            let Some((_, x, y)) = plane_hit(
+                &rows,
+                o,
+                d,
+                I16F16::from_bits(64),
+                I16F16::MAX,
+                (side, scale),
+                None,
+                PLANE,
+            ) else {
                 continue;
             };
             // The same hit in f64 from the kernel's inputs: the row products
@@ -568,6 +566,7 @@ mod tests {
                 I16F16::MAX,
                 (I16F16::ZERO, I16F16::ZERO),
                 None,
+                PLANE,
             )
             .expect("a hit");
             let err = (t.to_f64() - want).abs();
