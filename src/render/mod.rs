@@ -78,6 +78,9 @@ pub const ADAPTIVE_SMALL_PILOT: u32 = 4;
 /// quarters to compare).
 pub const ADAPTIVE_MIN_POINT: u32 = 5 * ADAPTIVE_SMALL_PILOT / 2;
 
+// Rows are filtered where adaptive sampling starts (a literal there: no import cycle).
+const _: () = assert!(scanline::FILTER_MIN_POINT == ADAPTIVE_MIN_POINT);
+
 /// The fewest samples with a ray budget (adaptive on, below
 /// [`ADAPTIVE_MIN_POINT`]: every pixel takes 40 % of `point`, dithered to a
 /// power of two): from 5, two rays or more, a stratified pair. At 3 and 4
