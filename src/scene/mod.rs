@@ -391,7 +391,6 @@ impl<S: Scalar> Object<S> {
             }
         };
         let t = base.add(to_world(h.t));
-        let mut face = (2, 0);
         if grazing {
             let (p, dl) = (h.p.to_array(), ld.to_array());
             // Constant indices: no bounds check (and no panic code) on the M0.
@@ -400,14 +399,13 @@ impl<S: Scalar> Object<S> {
                 .or_else(|| on(1, p[1], dl[1]))
                 .or_else(|| on(2, p[2], dl[2]))
             {
-                face = (i, if x > S::ZERO { 1 } else { -1 });
-                return Some((Hit { t, local: h }, face));
+                return Some((Hit { t, local: h }, (i, if x > S::ZERO { 1 } else { -1 })));
             }
         }
         if t <= t_min || t >= t_max {
             return None;
         }
-        Some((Hit { t, local: h }, face))
+        Some((Hit { t, local: h }, (2, 0)))
     }
 
     /// The object-space ray re-origined at `o + t_off d`, its unit direction
