@@ -38,6 +38,30 @@ pub fn render_image<S: Scalar + Send + Sync>(
     render_image_counted(scene, width, height, samples, on_row).0
 }
 
+/// [`render_image`] as a build with the feature `no-scanline-filter` (the
+/// micro:bit's) draws it: every pixel as [`Renderer::pixel`] has it, before
+/// the scanline filter.
+pub fn render_image_unfiltered<S: Scalar + Send + Sync>(
+    scene: &Scene<S>,
+    width: u32,
+    height: u32,
+    samples: Option<u32>,
+) -> Image {
+    let renderer = Renderer::new_with_samples(scene, width, height, samples);
+    let mut pixels = vec![Rgb888::BLACK; width as usize * height as usize];
+    if width > 0 {
+        pixels
+            .par_chunks_mut(width as usize)
+            .enumerate()
+            .for_each(|(row, out)| {
+                for (col, px) in out.iter_mut().enumerate() {
+                    *px = renderer.pixel(col as u32, row as u32);
+                }
+            });
+    }
+    Image { width, height, pixels }
+}
+
 /// [`render_image`], and the lens rays it cast in all (one a pixel for a pinhole).
 pub fn render_image_counted<S: Scalar + Send + Sync>(
     scene: &Scene<S>,

@@ -136,6 +136,18 @@ impl Aperture {
         ((r * rim_x) / 32768, (r * rim_y) / 32768)
     }
 
+    /// The radius of the disc of this aperture's area, the unit circle's
+    /// radius 1: √(n sin(2π/n) / 2π) for n blades (a triangle's 0.64), 1 for
+    /// round. Set-up only (f64).
+    pub fn equal_area_radius(&self) -> f64 {
+        if self.blades == 0 {
+            return 1.0;
+        }
+        let n = self.blades as f64;
+        let (s, _) = sin_cos_degrees(360.0 / n);
+        libm::sqrt(n * s / (2.0 * core::f64::consts::PI))
+    }
+
     /// Number of sides; 0 for round.
     pub fn blades(&self) -> u32 {
         self.blades as u32

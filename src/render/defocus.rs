@@ -4,7 +4,10 @@
 //! A pixel's rays all pass through its point in focus F (depth z_f). Lens
 //! points δ apart meet depth z δ·|1 − z/z_f| apart, so a ray standing for one
 //! of P equal strata of a lens of radius a (about a/√P across) covers, at
-//! depth z, a disc of radius about a/√P · |1 − z/z_f|. Averaging the texture
+//! depth z, a disc of radius about a/√P · |1 − z/z_f| (a the radius of the
+//! disc of the aperture's area: a triangle inscribed in the lens's circle
+//! has 0.64 of its radius; sized by the circle, footprints of seed 8219's
+//! triangle blurred its checkered floor flat, 3.6 dB under the floor). Averaging the texture
 //! over it is what the stratum's rays average: the estimate keeps its mean
 //! (up to a blur of that size, which vanishes as P grows, and is zero in focus
 //! and for a pinhole) and loses the noise of squares flipping across the lens.
@@ -45,9 +48,11 @@ impl<S: Scalar> Defocus<S> {
         let Some([_, _, n]) = crate::camera::basis(cam) else {
             return none;
         };
+        let aperture = crate::camera::aperture::Aperture::regular(cam.aperture_blades, cam.aperture_rotation);
         Defocus {
             ahead: Vec3::from_f64(n.map(|x| -x / z_f)),
-            radius: S::from_f64(cam.radius * FOOTPRINT_GAIN),
+            // A stratum is 1/P of the aperture's area: a polygon's is smaller than its circle's.
+            radius: S::from_f64(cam.radius * FOOTPRINT_GAIN * aperture.equal_area_radius()),
             far: S::ZERO,
         }
     }

@@ -39,12 +39,14 @@ use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 /// frames gained about the most; 2 lost 1.9 dB on `paper-fig8-pinhole`).
 pub const FAR_COC_PIXELS: f64 = 4.0;
 
-/// The fewest samples a pixel must have for rows to be filtered: where
-/// adaptive sampling starts (`ADAPTIVE_MIN_POINT`, asserted where both are
+/// The fewest samples a pixel must have for rows to be filtered: wherever
+/// there is a ray budget (`ADAPTIVE_BUDGET_POINT`, asserted where both are
 /// seen). From 10 rather than 20 it gained on 28 of 29 changed seeds of
-/// 1000, 3000, 6000-6059 at 80x60 (up to +3.9 dB; 6059 -2.10 -> +1.82 dB
-/// against `point` independent samples), lost 0.04 dB on one.
-pub const FILTER_MIN_POINT: u32 = 10;
+/// 1000, 3000, 6000-6059 at 80x60; from 5 rather than 10 on all 13 changed
+/// there and in 8200-8239 (6007 +4.3 dB, 1050 -3.82 -> +0.20 dB against
+/// `point` independent samples), and at 3 and 4 it is what lets the one- or
+/// two-ray budget meet the floors at all (see `ADAPTIVE_BUDGET_POINT`).
+pub const FILTER_MIN_POINT: u32 = 3;
 
 /// K / T: the circle of confusion of a point at infinity in pixels of an
 /// image `cols` wide, over [`FAR_COC_PIXELS`]; 0 for a pinhole or a camera
