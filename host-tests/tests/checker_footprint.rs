@@ -126,6 +126,31 @@ fn stratum_radii_halve_with_four_times_the_strata() {
 }
 
 #[test]
+fn polygon_footprints_stand_for_a_stratum_of_the_polygons_area() {
+    // The stratum's radius is that of the disc of 1/P of the aperture's area,
+    // the area counted independently: the Q1.15 lattice points the aperture
+    // contains (every 64th), against the round lens's. Sized by the circle, a
+    // triangle's footprints were 1.56 times too wide (seed 8219's floor blurred flat).
+    let count = |ap: &lensray::unstable::aperture::Aperture| {
+        let steps = (-32768..32768).step_by(64);
+        steps
+            .clone()
+            .flat_map(|x| steps.clone().map(move |y| (x, y)))
+            .filter(|&(x, y)| ap.contains_q15(x, y))
+            .count() as f64
+    };
+    let round = count(&lensray::unstable::aperture::Aperture::ROUND);
+    for blades in [0u32, 3, 4, 5, 6, 8, 16] {
+        let text = format!("radius 0.5\nfocus_distance 10\naperture_blades {blades}\naperture_rotation 17\n");
+        let d = Defocus::new(&Scene::<f32>::parse(&text).unwrap());
+        let ap = lensray::unstable::aperture::Aperture::regular(blades, 17.0);
+        let want = 0.5 * (count(&ap) / round).sqrt() / 4.0;
+        let got = d.stratum(16) as f64;
+        assert!((got - want).abs() < 2e-3 * want, "{blades} blades: {got} vs {want}");
+    }
+}
+
+#[test]
 fn pinhole_renders_are_unfiltered() {
     // A textured floor: with a pinhole, the stratified and independent
     // samplers give the same picture (one ray, no footprint).
