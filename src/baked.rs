@@ -87,6 +87,7 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
         cap,
         survey_rays,
         spread,
+        floor,
     } = r;
     put_scene(scene, w);
     camera.put(w);
@@ -99,6 +100,7 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
     cap.put(w);
     survey_rays.put(w);
     spread.put(w);
+    floor.put(w);
 }
 
 fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
@@ -168,6 +170,7 @@ pub struct Baked<S: BakeScalar> {
     cap: u32,
     survey_rays: u32,
     spread: u32,
+    floor: u32,
     /// The cones and footprints were moved out by [`Baked::take_renderer`].
     taken: bool,
 }
@@ -187,6 +190,7 @@ impl<S: BakeScalar> Baked<S> {
             cap: 0,
             survey_rays: 0,
             spread: 0,
+            floor: 0,
             taken: false,
         }
     }
@@ -233,6 +237,7 @@ impl<S: BakeScalar> Baked<S> {
         self.cap = 0;
         self.survey_rays = 0;
         self.spread = 0;
+        self.floor = 0;
     }
 
     fn load_checked(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
@@ -303,6 +308,7 @@ impl<S: BakeScalar> Baked<S> {
         self.cap.take(r);
         self.survey_rays.take(r);
         self.spread.take(r);
+        self.floor.take(r);
         if !r.ok() {
             return;
         }
@@ -342,6 +348,7 @@ impl<S: BakeScalar> Baked<S> {
             cap: self.cap,
             survey_rays: self.survey_rays,
             spread: self.spread,
+            floor: self.floor,
         }
     }
 
@@ -369,6 +376,7 @@ impl<S: BakeScalar> Baked<S> {
             cap: self.cap,
             survey_rays: self.survey_rays,
             spread: self.spread,
+            floor: self.floor,
         }
     }
 

@@ -38,9 +38,10 @@ pub fn render_image<S: Scalar + Send + Sync>(
     render_image_counted(scene, width, height, samples, on_row).0
 }
 
-/// [`render_image`] as a build with the feature `no-scanline-filter` (the
-/// micro:bit's) draws it: every pixel as [`Renderer::pixel`] has it, before
-/// the scanline filter.
+/// [`render_image`] before the scanline filter, every pixel as
+/// [`Renderer::pixel`] has it: what the micro:bit's build (features
+/// `no-scanline-filter` and `no-spare-floor`) draws of a frame without a
+/// survey (`point` under 10, or too small), such as its tests' frames.
 pub fn render_image_unfiltered<S: Scalar + Send + Sync>(
     scene: &Scene<S>,
     width: u32,
