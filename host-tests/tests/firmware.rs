@@ -93,6 +93,17 @@ fn show(o: &Output) -> String {
 }
 
 /// Runs `lensray emulate` and checks its image against the host's render.
+/// The host's render of `run`'s scene in `S`: unfiltered for the micro:bit,
+/// whose build leaves the scanline filter out (its flash).
+fn host_render<S: Scalar + Send + Sync>(path: &Path, run: &Run) -> Image {
+    let scene = load_scene::<S>(path).unwrap();
+    if run.board == "microbit" {
+        render_image_unfiltered(&scene, run.width, run.height, run.samples)
+    } else {
+        render_image(&scene, run.width, run.height, run.samples, &|| {})
+    }
+}
+
 fn emulate_and_compare(run: &Run) -> Outcome {
     let out = tmp(&format!(
         "{}-{}-{}x{}-{}{}.bmp",
@@ -121,34 +132,10 @@ fn emulate_and_compare(run: &Run) -> Outcome {
 
     // The host's own render of the same scene at the same size, in the same number type.
     let path = scene(run.scene);
-    // The micro:bit's build leaves the scanline filter out (its flash).
-    let host = if run.board == "microbit" {
-        if run.float {
-            render_image_unfiltered(&load_scene::<f32>(&path).unwrap(), run.width, run.height, run.samples)
-        } else {
-            render_image_unfiltered(
-                &load_scene::<I16F16>(&path).unwrap(),
-                run.width,
-                run.height,
-                run.samples,
-            )
-        }
-    } else if run.float {
-        render_image(
-            &load_scene::<f32>(&path).unwrap(),
-            run.width,
-            run.height,
-            run.samples,
-            &|| {},
-        )
+    let host = if run.float {
+        host_render::<f32>(&path, run)
     } else {
-        render_image(
-            &load_scene::<I16F16>(&path).unwrap(),
-            run.width,
-            run.height,
-            run.samples,
-            &|| {},
-        )
+        host_render::<I16F16>(&path, run)
     };
     assert_eq!((image.width, image.height), (run.width, run.height));
     let differing: Vec<(usize, _, _)> = image
