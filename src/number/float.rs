@@ -133,7 +133,7 @@ impl Kernels for f32 {
         // At most just below 1: f32 rounding of u − floor(u) never reaches it but may.
         (cell as i64, (u - cell as f32).clamp(0.0, 1.0 - f32::EPSILON / 2.0))
     }
-    type Row = [f32; 4];
+    type Row = FloatRow;
     /// f64, so that summing many samples adds no error of its own (the Q16.16
     /// sum is exact in i64): an f32 sum of seventy 0.1s lands below 7 and turns
     /// a colour of exactly 25.5 levels into 25 instead of 26.
@@ -157,11 +157,16 @@ impl Kernels for f32 {
     fn dot_positive(a: [Self; 3], b: [Self; 3]) -> bool {
         a[0] * b[0] + a[1] * b[1] + a[2] * b[2] > 0.0
     }
-    fn row_from_f64(r: [f64; 4]) -> [f32; 4] {
-        r.map(|x| x as f32)
+    fn row_from_f64(r: [f64; 4]) -> FloatRow {
+        let hi = r.map(|x| x as f32);
+        FloatRow {
+            hi,
+            lo: [0, 1, 2, 3].map(|k| (r[k] - hi[k] as f64) as f32),
+        }
     }
     #[inline]
-    fn row_apply(row: &[f32; 4], v: [Self; 3], affine: bool) -> Self {
+    fn row_apply(row: &FloatRow, v: [Self; 3], affine: bool) -> Self {
+        let row = &row.hi;
         let s = row[0] * v[0] + row[1] * v[1] + row[2] * v[2];
         if affine {
             s + row[3]
@@ -169,7 +174,7 @@ impl Kernels for f32 {
             s
         }
     }
-    fn rows_apply_unit(rows: &[[f32; 4]; 3], v: [Self; 3]) -> ([Self; 3], Self, Self) {
+    fn rows_apply_unit(rows: &[FloatRow; 3], v: [Self; 3]) -> ([Self; 3], Self, Self) {
         let w = rows.map(|r| Self::row_apply(&r, v, false));
         let (unit, len) = Self::normalize3(w);
         if len == 0.0 {
@@ -178,30 +183,38 @@ impl Kernels for f32 {
         (unit, len, if len >= 1.0 { 0.0 } else { 1.0 / len })
     }
     fn dir_from(v: [Self; 3]) -> FloatDir {
-        FloatDir { d: v, o_lo: [0.0; 3] }
+        FloatDir {
+            d: v,
+            o_lo: [0.0; 3],
+            exact: [0; 3],
+        }
     }
     #[inline]
     fn origin_low(d: &FloatDir) -> Option<[Self; 3]> {
         Some(d.o_lo)
     }
     type FilmMap = FloatFilmMap;
-    type Film = [f32; 3];
+    type Film = FloatFilm;
     fn film_map(desc: &FilmMapDesc) -> FloatFilmMap {
         FloatFilmMap::new(desc)
     }
     #[inline]
-    fn film_dir(map: &FloatFilmMap, i: i32, j: i32) -> [f32; 3] {
-        map.film(i, j)
+    fn film_dir(map: &FloatFilmMap, i: i32, j: i32) -> FloatFilm {
+        FloatFilm {
+            d: map.film(i, j),
+            exact: map.film_exact(i, j),
+        }
     }
     #[inline]
-    fn film_ray_dir(map: &FloatFilmMap, film: &[f32; 3], lens: (i32, i32)) -> (FloatDir, [Self; 3]) {
-        let u = map.ray_dir(film, lens);
+    fn film_ray_dir(map: &FloatFilmMap, film: &FloatFilm, lens: (i32, i32)) -> (FloatDir, [Self; 3]) {
+        let u = map.ray_dir(&film.d, lens);
         // A chief ray leaves from the eye itself: its bits below f32 ride along.
         let o_lo = if lens == (0, 0) { map.eye_lo } else { [0.0; 3] };
-        (FloatDir { d: u, o_lo }, u)
+        let exact = map.lens_exact(&film.exact, lens);
+        (FloatDir { d: u, o_lo, exact }, u)
     }
     fn plane_hit(
-        rows: &[[f32; 4]; 3],
+        rows: &[FloatRow; 3],
         o: [Self; 3],
         d: FloatDir,
         t_min: Self,
@@ -245,24 +258,50 @@ impl Kernels for f32 {
 
 impl BakeScalar for f32 {
     const TAG: u8 = 1;
-    type BakedRow = [f32; 4];
+    type BakedRow = FloatRow;
     type BakedFilmMap = FloatFilmMap;
     fn film_map_fits(_: &Self::BakedFilmMap, _: u32, _: u32) -> bool {
         true
     }
 }
 
+/// f32's matrix row: the entries rounded to f32, with what rounding left
+/// (`lo`, about 2⁻²⁴ of each), so that a plane met at grazing can be taken
+/// again from its row to 48 bits (`plane_hit_f32`). The per-ray path reads `hi`.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct FloatRow {
+    hi: [f32; 4],
+    lo: [f32; 4],
+}
+
+impl crate::bytes::Field for FloatRow {
+    crate::bytes::baked_fields!(FloatRow { hi, lo });
+}
+
 /// f32's precise direction: the unit direction, with a chief ray's origin's
 /// bits below f32 (the eye's, from the film map; 0 for other rays): the eye
 /// rounded to f32 at 60 units is 2e-6 off, more than a grazing ray's margin
-/// on an object scaled 0.3 (seed 14009).
+/// on an object scaled 0.3 (seed 14009); and a camera ray's direction exactly
+/// (`FloatFilmMap::film_exact`; zero for other rays) for a plane met at grazing.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct FloatDir {
     d: [f32; 3],
     o_lo: [f32; 3],
+    exact: [i64; 3],
 }
 
-/// f32's film map: the parts rounded to f32.
+/// f32's film direction of a pixel: rounded, and exactly at the film map's
+/// integer scale.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct FloatFilm {
+    d: [f32; 3],
+    exact: [i64; 3],
+}
+
+/// f32's film map: the parts rounded to f32, and as integers at one scale
+/// 2^-e (`exact_*`, chosen at set-up so that every direction of the image,
+/// lens terms included, stays below 2^62): a camera ray's direction exactly,
+/// to 2⁻⁴⁷ of the largest, in a few integer products.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct FloatFilmMap {
     a: [f32; 3],
@@ -272,6 +311,13 @@ pub struct FloatFilmMap {
     k_v: [f32; 3],
     /// The eye less its f32 value (`FloatDir::o_lo` of chief rays).
     eye_lo: [f32; 3],
+    /// `a`, `b`, `c` times 2^e, rounded.
+    exact_a: [i64; 3],
+    exact_b: [i64; 3],
+    exact_c: [i64; 3],
+    /// `k_u`, `k_v` times 2^(e − 15), rounded: a Q1.15 lens sample times them is at 2^-e.
+    exact_k_u: [i64; 3],
+    exact_k_v: [i64; 3],
 }
 
 impl crate::bytes::Field for FloatFilmMap {
@@ -281,7 +327,12 @@ impl crate::bytes::Field for FloatFilmMap {
         c,
         k_u,
         k_v,
-        eye_lo
+        eye_lo,
+        exact_a,
+        exact_b,
+        exact_c,
+        exact_k_u,
+        exact_k_v
     });
 }
 
@@ -289,6 +340,24 @@ impl FloatFilmMap {
     /// Rounds the parts. Set-up only.
     pub fn new(d: &FilmMapDesc) -> FloatFilmMap {
         let r = |v: [f64; 3]| v.map(|x| x as f32);
+        // The largest |component| of a direction (corners, lens reach) and of
+        // each part: every product and sum below then stays under 2^63.
+        let mut bound = 0.0f64;
+        for k in 0..3 {
+            let lens = libm::fabs(d.k_u[k]) + libm::fabs(d.k_v[k]);
+            for x in [d.a[k], d.b[k], d.c[k], lens] {
+                bound = bound.max(libm::fabs(x));
+            }
+            for (i, j) in [(1.0, 1.0), (d.i_max, 1.0), (1.0, d.j_max), (d.i_max, d.j_max)] {
+                bound = bound.max(libm::fabs(d.a[k] * i + d.b[k] * j + d.c[k]) + lens);
+            }
+        }
+        let e = if bound > 0.0 && bound.is_finite() {
+            (libm::floor(libm::log2(4_611_686_018_427_387_904.0 / bound)) as i32).clamp(-900, 900)
+        } else {
+            0
+        };
+        let at = |v: [f64; 3], e: i32| v.map(|x| libm::round(x * libm::exp2(e as f64)) as i64);
         FloatFilmMap {
             a: r(d.a),
             b: r(d.b),
@@ -296,6 +365,11 @@ impl FloatFilmMap {
             k_u: r(d.k_u),
             k_v: r(d.k_v),
             eye_lo: d.eye.map(|e| (e - e as f32 as f64) as f32),
+            exact_a: at(d.a, e),
+            exact_b: at(d.b, e),
+            exact_c: at(d.c, e),
+            exact_k_u: at(d.k_u, e - 15),
+            exact_k_v: at(d.k_v, e - 15),
         }
     }
 
@@ -304,6 +378,31 @@ impl FloatFilmMap {
     pub fn film(&self, i: i32, j: i32) -> [f32; 3] {
         let (i, j) = (i as f32, j as f32);
         [0, 1, 2].map(|k| self.a[k] * i + self.b[k] * j + self.c[k])
+    }
+
+    /// `D(i, j)` at scale 2^-e, exactly but for the parts' rounding (wrapping:
+    /// only the result need fit, and it does for the image's pixels).
+    #[inline]
+    pub fn film_exact(&self, i: i32, j: i32) -> [i64; 3] {
+        [0, 1, 2].map(|k| {
+            self.exact_a[k]
+                .wrapping_mul(i as i64)
+                .wrapping_add(self.exact_b[k].wrapping_mul(j as i64))
+                .wrapping_add(self.exact_c[k])
+        })
+    }
+
+    /// [`FloatFilmMap::film_exact`] tilted by a lens sample (Q1.15).
+    #[inline]
+    pub fn lens_exact(&self, film: &[i64; 3], lens: (i32, i32)) -> [i64; 3] {
+        if lens == (0, 0) {
+            return *film;
+        }
+        [0, 1, 2].map(|k| {
+            film[k]
+                .wrapping_sub(self.exact_k_u[k].wrapping_mul(lens.0 as i64))
+                .wrapping_sub(self.exact_k_v[k].wrapping_mul(lens.1 as i64))
+        })
     }
 
     /// The unit direction along `D − s_x k_u − s_y k_v`.
@@ -319,28 +418,83 @@ impl FloatFilmMap {
     }
 }
 
+/// A plane is taken again in f64 where a camera ray meets it at a slope
+/// (sine of the angle between ray and plane) under this: f32's hit there
+/// moves by its direction's and rows' 2⁻²² divided by the slope, more than
+/// 2⁻¹⁶ of its distance, enough to put a far checker row on the other colour.
+const GRAZING: f32 = 1.0 / 64.0;
+
 /// [`plane_hit`](crate::number::plane::plane_hit) in `f32`: the same plane through the same rows, with `d` of
 /// any length.
 fn plane_hit_f32(
-    rows: &[[f32; 4]; 3],
+    rows: &[FloatRow; 3],
     o: [f32; 3],
     d: &FloatDir,
     t_min: f32,
     t_max: f32,
     face: (usize, i8),
 ) -> Option<(f32, f32, f32)> {
-    let (d, o_lo) = (d.d, d.o_lo);
-    let ld = rows.map(|r| <f32 as Kernels>::row_apply(&r, d, false));
+    let (dir, o_lo) = (d.d, d.o_lo);
+    let ld = rows.map(|r| <f32 as Kernels>::row_apply(&r, dir, false));
     let k = face.0.min(2);
+    let lo = rows.map(|r| <f32 as Kernels>::row_apply(&r, o, true) + <f32 as Kernels>::row_apply(&r, o_lo, false));
+    // A camera ray (its exact direction known) at grazing: |ld_k| / |row_k| under GRAZING.
+    if d.exact != [0; 3] {
+        let m = &rows[k].hi;
+        if ld[k] * ld[k] < GRAZING * GRAZING * (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]) {
+            return plane_hit_exact(rows, o, d, t_min, t_max, face);
+        }
+    }
     if ld[k] == 0.0 {
         return None;
     }
-    let lo = rows.map(|r| <f32 as Kernels>::row_apply(&r, o, true) + <f32 as Kernels>::row_apply(&r, o_lo, false));
     // s in units of ld, t in world units.
     let s = -(lo[k] - face.1 as f32) / ld[k];
-    let t = s * <f32 as Kernels>::length3(d);
+    let t = s * <f32 as Kernels>::length3(dir);
     if !(t > t_min && t < t_max) {
         return None;
     }
     Some((t, lo[0] + ld[0] * s, lo[1] + ld[1] * s))
+}
+
+/// [`plane_hit_f32`] for a camera ray at grazing, in f64: the plane's height
+/// of the origin and the exact direction's component along its normal from
+/// the row to 48 bits, the eye to 48 bits (chief rays) and the film map's
+/// integer direction (2⁻⁴⁷), so that the hit lies where float64 puts it (its
+/// error divided by the slope, 3e-5 at the horizon: seeds 14296, 16119).
+/// Cold: software f64 on the boards, for the few rows near a horizon.
+#[cold]
+#[inline(never)]
+fn plane_hit_exact(
+    rows: &[FloatRow; 3],
+    o: [f32; 3],
+    d: &FloatDir,
+    t_min: f32,
+    t_max: f32,
+    face: (usize, i8),
+) -> Option<(f32, f32, f32)> {
+    let k = face.0.min(2);
+    let row = |r: &FloatRow| -> [f64; 4] { core::array::from_fn(|c| r.hi[c] as f64 + r.lo[c] as f64) };
+    let n = row(&rows[k]);
+    let org: [f64; 3] = core::array::from_fn(|c| o[c] as f64 + d.o_lo[c] as f64);
+    let dd = d.exact.map(|x| x as f64);
+    let dot = |a: &[f64; 4], v: &[f64; 3]| a[0] * v[0] + a[1] * v[1] + a[2] * v[2];
+    let dz = dot(&n, &dd);
+    if dz == 0.0 {
+        return None;
+    }
+    // s in units of the exact direction.
+    let s = -(dot(&n, &org) + n[3] - face.1 as f64) / dz;
+    // |D| from the unit f32 direction: D · d is |D| to f32's 2⁻²³ (t needs no more).
+    let len = dd[0] * d.d[0] as f64 + dd[1] * d.d[1] as f64 + dd[2] * d.d[2] as f64;
+    let t = s * len;
+    if !(t > t_min as f64 && t < t_max as f64) {
+        return None;
+    }
+    // x and y from the exact direction too: the rows' f32 entries hold them to 2⁻²⁴.
+    let at = |r: &FloatRow| {
+        let m = r.hi.map(|x| x as f64);
+        (dot(&m, &org) + m[3] + s * dot(&m, &dd)) as f32
+    };
+    Some((t as f32, at(&rows[0]), at(&rows[1])))
 }
