@@ -498,3 +498,171 @@ fn plane_hit_exact(
     };
     Some((t as f32, at(&rows[0]), at(&rows[1])))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::transform::Mat34;
+
+    fn unit(v: [f64; 3]) -> [f64; 3] {
+        let l = libm::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        v.map(|x| x / l)
+    }
+
+    fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+        a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    }
+
+    fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    }
+
+    /// A random camera's film map (any basis, eye within ±60, films from
+    /// narrow to 40 times wider than deep, up to 2000 pixels a side, a lens
+    /// or none), as `Camera::new` makes it.
+    fn camera(next: &mut impl FnMut() -> f64) -> FilmMapDesc {
+        let n = unit([0; 3].map(|_| next() * 2.0 - 1.0));
+        let u = unit(cross([0; 3].map(|_| next() * 2.0 - 1.0), n));
+        let v = cross(n, u);
+        let (cols, rows) = (1 + (next() * 2000.0) as u32, 1 + (next() * 2000.0) as u32);
+        let (width, big_n) = (0.5 + next() * 20.0, 0.5 + next() * 10.0);
+        let p = width / cols as f64;
+        let (w, h) = (width / 2.0, p * rows as f64 / 2.0);
+        let tilt = if next() < 0.5 { 0.0 } else { next() * 3.0 };
+        FilmMapDesc {
+            eye: [0; 3].map(|_| next() * 120.0 - 60.0),
+            a: u.map(|x| x * p / 2.0),
+            b: v.map(|x| -x * p / 2.0),
+            c: [0, 1, 2].map(|k| -w * u[k] + h * v[k] - big_n * n[k]),
+            k_u: u.map(|x| x * tilt),
+            k_v: v.map(|x| x * tilt),
+            i_max: (2 * cols - 1) as f64,
+            j_max: (2 * rows - 1) as f64,
+        }
+    }
+
+    /// The film map's integer directions are the exact ones but for the
+    /// parts' rounding: half a unit of 2^-e each, times the pixel's indices
+    /// and the lens sample's 2^15, with 2^-e at most 2^-61 of the map's bound
+    /// (its largest direction, lens reach included). At most 2^-45 of it.
+    #[test]
+    fn exact_film_directions_hold_45_bits() {
+        let mut next = crate::test_rng::unit_f64(0xF11_3A);
+        for _ in 0..2000 {
+            let desc = camera(&mut next);
+            let map = FloatFilmMap::new(&desc);
+            let mut bound = 0f64;
+            for k in 0..3 {
+                let lens = libm::fabs(desc.k_u[k]) + libm::fabs(desc.k_v[k]);
+                for (i, j) in [(1.0, 1.0), (desc.i_max, 1.0), (1.0, desc.j_max), (desc.i_max, desc.j_max)] {
+                    bound = bound.max(libm::fabs(desc.a[k] * i + desc.b[k] * j + desc.c[k]) + lens);
+                }
+            }
+            let room = (desc.i_max + desc.j_max + 65537.0) * 2f64.powi(-62) * bound + bound * 1e-15;
+            assert!(room <= bound * 2f64.powi(-45), "{desc:?}");
+            for _ in 0..50 {
+                let i = 1 + 2 * (next() * (desc.i_max - 1.0) / 2.0) as i32;
+                let j = 1 + 2 * (next() * (desc.j_max - 1.0) / 2.0) as i32;
+                let lens = if next() < 0.5 {
+                    (0, 0)
+                } else {
+                    ((next() * 65535.0) as i32 - 32767, (next() * 65535.0) as i32 - 32767)
+                };
+                let exact = map.lens_exact(&map.film_exact(i, j), lens);
+                assert!(exact.iter().all(|x| x.unsigned_abs() < 1 << 62), "{exact:?}");
+                let (sx, sy) = (lens.0 as f64 / 32768.0, lens.1 as f64 / 32768.0);
+                let want: [f64; 3] = core::array::from_fn(|k| {
+                    desc.a[k] * i as f64 + desc.b[k] * j as f64 + desc.c[k] - sx * desc.k_u[k] - sy * desc.k_v[k]
+                });
+                // The scale, a power of two, from the largest component.
+                let k = (0..3).max_by(|&p, &q| want[p].abs().total_cmp(&want[q].abs())).unwrap_or(0);
+                let scale = libm::exp2(libm::round(libm::log2(exact[k] as f64 / want[k])));
+                for k in 0..3 {
+                    let off = libm::fabs(exact[k] as f64 / scale - want[k]);
+                    assert!(off <= room, "{off:e} over {room:e}: {desc:?}");
+                }
+            }
+        }
+    }
+
+    /// A camera ray (chief or lens) meeting a plane at a slope from 1e-5 to
+    /// the grazing one: f32's hit (distance, and the point in the plane's
+    /// space) lies where float64 puts it within the bound of the error
+    /// analysis: the rows' f32 entries on the point (2⁻²³) and the cold
+    /// path's 2⁻³⁶ of distance over the slope. Without the cold path a slope
+    /// of 1e-4 misses by 1e-3 of the distance.
+    #[test]
+    fn grazing_plane_hits_agree_with_float64() {
+        let mut next = crate::test_rng::unit_f64(0x6EA_21E);
+        let (mut cold, mut checked) = (0, 0);
+        for n in 0..20_000 {
+            let desc = camera(&mut next);
+            let map = FloatFilmMap::new(&desc);
+            let i = 1 + 2 * (next() * (desc.i_max - 1.0) / 2.0) as i32;
+            let j = 1 + 2 * (next() * (desc.j_max - 1.0) / 2.0) as i32;
+            let chief = n % 2 == 0;
+            let lens = if chief {
+                (0, 0)
+            } else {
+                ((next() * 65535.0) as i32 - 32767, (next() * 65535.0) as i32 - 32767)
+            };
+            let film = <f32 as Kernels>::film_dir(&map, i, j);
+            let (dir, _) = <f32 as Kernels>::film_ray_dir(&map, &film, lens);
+            let (sx, sy) = (lens.0 as f64 / 32768.0, lens.1 as f64 / 32768.0);
+            let d = unit(core::array::from_fn(|k| {
+                desc.a[k] * i as f64 + desc.b[k] * j as f64 + desc.c[k] - sx * desc.k_u[k] - sy * desc.k_v[k]
+            }));
+            // A chief ray from the eye; a lens ray from a point exactly an f32's.
+            let o = desc.eye.map(|x| x as f32);
+            let origin = if chief { desc.eye } else { o.map(|x| x as f64) };
+            // The plane: normal at `slope` to the ray, `h` ahead of the origin.
+            let slope = libm::pow(10.0, -5.0 + 4.7 * next());
+            let w = unit(cross(d, [0; 3].map(|_| next() * 2.0 - 1.0)));
+            let normal = unit(core::array::from_fn(|k| w[k] * libm::sqrt(1.0 - slope * slope) + d[k] * slope));
+            let e1 = unit(cross(normal, w));
+            let e2 = cross(normal, e1);
+            let h = 0.5 + next() * 100.0;
+            let p0: [f64; 3] = core::array::from_fn(|k| origin[k] + normal[k] * h);
+            let frame = Mat34([0, 1, 2].map(|k| [e1[k], e2[k], normal[k], p0[k]]));
+            let to_world = frame
+                .after(&Mat34::rotate(2, next() * 360.0))
+                .after(&Mat34::scale([0.3 + next() * 5.0, 0.3 + next() * 5.0, 0.3 + next() * 5.0]));
+            let inv = to_world.inverse().unwrap();
+            let rows = inv.0.map(<f32 as Kernels>::row_from_f64);
+            // float64's hit.
+            let (lo, ld) = (inv.apply(origin, true), inv.apply(d, false));
+            let t64 = -lo[2] / ld[2];
+            let (x64, y64) = (lo[0] + t64 * ld[0], lo[1] + t64 * ld[1]);
+            let got = <f32 as Kernels>::plane_hit(&rows, o, dir, 0.0, f32::MAX, (0.0, 0.0), None, (2, 0));
+            let Some((t, x, y)) = got else {
+                panic!("no hit: slope {slope:e}, t {t64}");
+            };
+            checked += 1;
+            // Above the grazing slope f32's own hit (unchanged) is all there is.
+            if slope >= GRAZING as f64 * 0.99 {
+                continue;
+            }
+            cold += 1;
+            // Relative to the distance: the cold path's (2⁻⁴⁵ of direction, 2⁻⁴⁶
+            // of height, both over the slope), and D · d's 2⁻²² on t.
+            let rel = 2f64.powi(-36) / slope + 2f64.powi(-21);
+            assert!(
+                libm::fabs(t as f64 - t64) <= t64 * rel,
+                "t {t} vs {t64} (slope {slope:e}, chief {chief})"
+            );
+            for (r, got, want) in [(0, x, x64), (1, y, y64)] {
+                let m = inv.0[r];
+                let size = libm::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+                let along = libm::fabs(t64 * ld[r]);
+                let room = 2f64.powi(-23) * (size * (dot(origin.map(libm::fabs), [1.0; 3]) + t64) + libm::fabs(m[3]))
+                    + 2f64.powi(-24) * libm::fabs(want)
+                    + along * rel;
+                assert!(
+                    libm::fabs(got as f64 - want) <= room,
+                    "coordinate {r}: {got} vs {want} (slope {slope:e}, t {t64}, chief {chief})"
+                );
+            }
+        }
+        assert!(cold > 8_000 && checked == 20_000, "{cold} grazing of {checked}");
+    }
+}
