@@ -175,7 +175,7 @@ impl Kernels for f32 {
         }
     }
     fn rows_apply_unit(rows: &[FloatRow; 3], v: [Self; 3]) -> ([Self; 3], Self, Self) {
-        let w = rows.map(|r| Self::row_apply(&r, v, false));
+        let w = [0, 1, 2].map(|k| Self::row_apply(&rows[k], v, false));
         let (unit, len) = Self::normalize3(w);
         if len == 0.0 {
             return ([0.0; 3], 0.0, 0.0);
@@ -435,9 +435,11 @@ fn plane_hit_f32(
     face: (usize, i8),
 ) -> Option<(f32, f32, f32)> {
     let (dir, o_lo) = (d.d, d.o_lo);
-    let ld = rows.map(|r| <f32 as Kernels>::row_apply(&r, dir, false));
+    let ld = [0, 1, 2].map(|k| <f32 as Kernels>::row_apply(&rows[k], dir, false));
     let k = face.0.min(2);
-    let lo = rows.map(|r| <f32 as Kernels>::row_apply(&r, o, true) + <f32 as Kernels>::row_apply(&r, o_lo, false));
+    let lo = [0, 1, 2].map(|k| {
+        <f32 as Kernels>::row_apply(&rows[k], o, true) + <f32 as Kernels>::row_apply(&rows[k], o_lo, false)
+    });
     // A camera ray (its exact direction known) at grazing: |ld_k| / |row_k| under GRAZING.
     if d.exact != [0; 3] {
         let m = &rows[k].hi;
