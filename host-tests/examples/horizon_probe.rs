@@ -29,9 +29,22 @@ fn main() {
     let dz32 = dot(r32[2], fd, 0.0);
     let dz_rows = dot(r32[2], d, 0.0);
     let dz_dir = dot(m[2], fd, 0.0);
-    println!("f32 parts: h {h32:.9} ({:+.3e}) dz {dz32:.6e} ({:+.3e} rel)", h32 - h, dz32 / dz - 1.0);
-    println!("  dz from rounded rows alone {:+.3e} rel, from the f32 direction alone {:+.3e} rel", dz_rows / dz - 1.0, dz_dir / dz - 1.0);
-    println!("  t with f32 h only {:.4}, with f32 dz only {:.4}, both {:.4}", -h32 / dz, -h / dz32, -h32 / dz32);
+    println!(
+        "f32 parts: h {h32:.9} ({:+.3e}) dz {dz32:.6e} ({:+.3e} rel)",
+        h32 - h,
+        dz32 / dz - 1.0
+    );
+    println!(
+        "  dz from rounded rows alone {:+.3e} rel, from the f32 direction alone {:+.3e} rel",
+        dz_rows / dz - 1.0,
+        dz_dir / dz - 1.0
+    );
+    println!(
+        "  t with f32 h only {:.4}, with f32 dz only {:.4}, both {:.4}",
+        -h32 / dz,
+        -h / dz32,
+        -h32 / dz32
+    );
     let o_f = [fr.origin.x as f64, fr.origin.y as f64, fr.origin.z as f64];
     println!("  eye rounding {:?}", [0, 1, 2].map(|i| o_f[i] - o[i]));
 }

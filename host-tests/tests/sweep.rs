@@ -111,14 +111,20 @@ fn f32_horizon_rows_agree_with_float64() {
     use embedded_graphics::pixelcolor::RgbColor;
     let (w, h) = (160, 120);
     for seed in [14296, 16119, 19249, 19271] {
-        let path = format!("{}/corpus/sweep-regressions/seed-{seed}-pinhole.scene", env!("CARGO_MANIFEST_DIR"));
+        let path = format!(
+            "{}/corpus/sweep-regressions/seed-{seed}-pinhole.scene",
+            env!("CARGO_MANIFEST_DIR")
+        );
         let text = std::fs::read_to_string(&path).expect("corpus scene") + "\nradius 0\n";
         let (fixed, float) = lensray_host::both_unadaptive(&text);
         let s64 = lensray_host::reference64::Scene64::parse(&text);
         let (_, img) = lensray_host::render_both(&fixed, &float, w, h, None);
         let off = (0..(w * h) as usize)
             .filter(|&i| {
-                let want = s64.pixel(i as u32 % w, i as u32 / w, w, h).rgb.map(|x| x.clamp(0.0, 255.0).round() as u8);
+                let want = s64
+                    .pixel(i as u32 % w, i as u32 / w, w, h)
+                    .rgb
+                    .map(|x| x.clamp(0.0, 255.0).round() as u8);
                 let p = img.pixels[i];
                 [p.r(), p.g(), p.b()].iter().zip(want).any(|(a, b)| a.abs_diff(b) > 2)
             })
