@@ -70,7 +70,7 @@ fn under(files: &[std::path::PathBuf], psnr: f64, within2: f64, line: f64) -> Ve
 #[test]
 fn every_regression_scene_meets_the_floors() {
     let files = corpus("sweep-regressions");
-    assert!(files.len() >= 63, "the corpus lost scenes");
+    assert!(files.len() >= 67, "the corpus lost scenes");
     let bad = under(&files, MIN_PSNR, MIN_WITHIN2, MAX_LINE_160);
     assert!(bad.is_empty(), "under the floors: {bad:?}");
 }
@@ -80,17 +80,15 @@ fn every_regression_scene_meets_the_floors() {
 /// measured when filed, with a small margin), so that none can get worse unseen.
 #[test]
 fn open_regression_scenes_get_no_worse() {
-    const HELD: [(&str, f64, f64, f64); 10] = [
+    const HELD: [(&str, f64, f64, f64); 8] = [
         ("seed-5116-pinhole", 47.0, 0.999, 2.2),
         ("seed-9206-pinhole", 46.4, 0.999, 3.4),
         ("seed-12124-pinhole", 45.7, 0.999, 2.15),
         ("seed-13193-pinhole", 38.6, 0.999, 2.2),
-        ("seed-14296-pinhole", 54.0, 0.997, 3.1),
         ("seed-16044-pinhole", 43.0, 0.999, 2.25),
-        ("seed-16119-pinhole", 45.6, 0.996, 11.5),
         ("seed-17035-pinhole", 43.3, 0.999, 2.2),
-        ("seed-19249-pinhole", 49.2, 0.999, 2.4),
-        ("seed-19271-pinhole", 50.3, 0.998, 3.6),
+        ("seed-21213-pinhole", 43.3, 0.999, 2.1),
+        ("seed-22268-pinhole", 43.9, 0.999, 2.15),
     ];
     let files = corpus("sweep-regressions/open");
     assert_eq!(files.len(), HELD.len(), "a file without its limits, or a lost one");
@@ -103,4 +101,36 @@ fn open_regression_scenes_get_no_worse() {
         })
         .collect();
     assert!(bad.is_empty(), "worse than when filed: {bad:?}");
+}
+
+/// f32's horizon (docs/accuracy.md, fix 15): on the four scenes whose floor
+/// row meets the horizon 5,700 to 127,000 away at slopes of 7e-5 to 2e-3,
+/// f32's pinhole render against float64 (`reference64`): 42, 64, 16 and 30
+/// pixels more than 2 levels off before the fix (the whole row on the other
+/// checker colour), at most 3 each after.
+#[test]
+fn f32_horizon_rows_agree_with_float64() {
+    use embedded_graphics::pixelcolor::RgbColor;
+    let (w, h) = (160, 120);
+    for seed in [14296, 16119, 19249, 19271] {
+        let path = format!(
+            "{}/corpus/sweep-regressions/seed-{seed}-pinhole.scene",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let text = std::fs::read_to_string(&path).expect("corpus scene") + "\nradius 0\n";
+        let (fixed, float) = lensray_host::both_unadaptive(&text);
+        let s64 = lensray_host::reference64::Scene64::parse(&text);
+        let (_, img) = lensray_host::render_both(&fixed, &float, w, h, None);
+        let off = (0..(w * h) as usize)
+            .filter(|&i| {
+                let want = s64
+                    .pixel(i as u32 % w, i as u32 / w, w, h)
+                    .rgb
+                    .map(|x| x.clamp(0.0, 255.0).round() as u8);
+                let p = img.pixels[i];
+                [p.r(), p.g(), p.b()].iter().zip(want).any(|(a, b)| a.abs_diff(b) > 2)
+            })
+            .count();
+        assert!(off <= 3, "seed {seed}: {off} f32 pixels more than 2 levels off float64");
+    }
 }
