@@ -207,18 +207,7 @@ impl<S: Scalar> Camera<S> {
         // m = z_f / N = f / (N − f); the tilt is a / m.
         let lens_tilt = if pinhole { 0.0 } else { params.radius * (big_n - f) / f };
         let radius = if pinhole { 0.0 } else { params.radius };
-        // World direction of p_film = (p/2 · i − W, H − p/2 · j, −N), less the
-        // lens tilt: i (p/2) u + j (−p/2) v + (−W u + H v − N n) − s_x (a/m) u − s_y (a/m) v.
-        let desc = FilmMapDesc {
-            eye: e,
-            a: u.map(|x| x * p / 2.0),
-            b: v.map(|x| -x * p / 2.0),
-            c: [0, 1, 2].map(|k| -half_w * u[k] + half_h * v[k] - big_n * n[k]),
-            k_u: u.map(|x| x * lens_tilt),
-            k_v: v.map(|x| x * lens_tilt),
-            i_max: (2 * cols - 1) as f64,
-            j_max: (2 * rows - 1) as f64,
-        };
+        let desc = FilmMapDesc::from_basis(e, [u, v, n], p, (half_w, half_h), big_n, lens_tilt, (cols, rows));
         Camera {
             film: Affine::from_mat(&film),
             map: S::film_map(&desc),

@@ -34,6 +34,36 @@ pub struct FilmMapDesc {
     pub j_max: f64,
 }
 
+impl FilmMapDesc {
+    /// The film map of a camera at `eye` with basis `u, v, n` (n pointing
+    /// back from the view), pixel pitch `p`, film half-width and half-height
+    /// `half`, image distance `big_n`, lens tilt a/m (0 for a pinhole) and
+    /// `cols` × `rows` pixels: the world direction of p_film = (p/2 · i − W,
+    /// H − p/2 · j, −N), less the lens tilt,
+    /// i (p/2) u + j (−p/2) v + (−W u + H v − N n) − s_x (a/m) u − s_y (a/m) v.
+    /// Set-up only (f64).
+    pub fn from_basis(
+        eye: [f64; 3],
+        [u, v, n]: [[f64; 3]; 3],
+        p: f64,
+        half: (f64, f64),
+        big_n: f64,
+        tilt: f64,
+        (cols, rows): (u32, u32),
+    ) -> Self {
+        FilmMapDesc {
+            eye,
+            a: u.map(|x| x * p / 2.0),
+            b: v.map(|x| -x * p / 2.0),
+            c: [0, 1, 2].map(|k| -half.0 * u[k] + half.1 * v[k] - big_n * n[k]),
+            k_u: u.map(|x| x * tilt),
+            k_v: v.map(|x| x * tilt),
+            i_max: (2 * cols - 1) as f64,
+            j_max: (2 * rows - 1) as f64,
+        }
+    }
+}
+
 /// Q16.16's film map: `a`, `b`, `c` at scale `2^-(s + f)`, `k_u`, `k_v` at
 /// `2^-s`, with s chosen so that every direction, lens term included, stays
 /// below 2^31 at scale `2^-s`, and f (at most 15) so that a and b fit an i32.

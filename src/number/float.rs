@@ -540,16 +540,8 @@ mod tests {
         let p = width / cols as f64;
         let (w, h) = (width / 2.0, p * rows as f64 / 2.0);
         let tilt = if next() < 0.5 { 0.0 } else { next() * 3.0 };
-        FilmMapDesc {
-            eye: [0; 3].map(|_| next() * 120.0 - 60.0),
-            a: u.map(|x| x * p / 2.0),
-            b: v.map(|x| -x * p / 2.0),
-            c: [0, 1, 2].map(|k| -w * u[k] + h * v[k] - big_n * n[k]),
-            k_u: u.map(|x| x * tilt),
-            k_v: v.map(|x| x * tilt),
-            i_max: (2 * cols - 1) as f64,
-            j_max: (2 * rows - 1) as f64,
-        }
+        let eye = [0; 3].map(|_| next() * 120.0 - 60.0);
+        FilmMapDesc::from_basis(eye, [u, v, n], p, (w, h), big_n, tilt, (cols, rows))
     }
 
     /// The film map's integer directions are the exact ones but for the
