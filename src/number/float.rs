@@ -162,6 +162,7 @@ impl Kernels for f32 {
         FloatRow {
             hi,
             lo: [0, 1, 2, 3].map(|k| (r[k] - hi[k] as f64) as f32),
+            grazing2: GRAZING * GRAZING * (hi[0] * hi[0] + hi[1] * hi[1] + hi[2] * hi[2]),
         }
     }
     #[inline]
@@ -273,10 +274,13 @@ impl BakeScalar for f32 {
 pub struct FloatRow {
     hi: [f32; 4],
     lo: [f32; 4],
+    /// [`GRAZING`]² times the squared length of `hi`'s linear part: the
+    /// grazing test's bound, from set-up rather than per ray.
+    grazing2: f32,
 }
 
 impl crate::bytes::Field for FloatRow {
-    crate::bytes::baked_fields!(FloatRow { hi, lo });
+    crate::bytes::baked_fields!(FloatRow { hi, lo, grazing2 });
 }
 
 /// f32's precise direction: the unit direction, with a chief ray's origin's
@@ -443,11 +447,8 @@ fn plane_hit_f32(
         .map(|k| <f32 as Kernels>::row_apply(&rows[k], o, true) + <f32 as Kernels>::row_apply(&rows[k], o_lo, false));
     // A camera ray (its exact direction known) at grazing: |ld_k| / |row_k| under GRAZING.
     // An OR, not `!= [0; 3]`: that is a call of memcmp (100 instructions on the M4F).
-    if d.exact[0] | d.exact[1] | d.exact[2] != 0 {
-        let m = &rows[k].hi;
-        if ld[k] * ld[k] < GRAZING * GRAZING * (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]) {
-            return plane_hit_exact(rows, o, d, (lo[0], lo[1]), t_min, t_max, face);
-        }
+    if d.exact[0] | d.exact[1] | d.exact[2] != 0 && ld[k] * ld[k] < rows[k].grazing2 {
+        return plane_hit_exact(rows, o, d, (lo[0], lo[1]), t_min, t_max, face);
     }
     if ld[k] == 0.0 {
         return None;

@@ -440,13 +440,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let var = (unsettled * (count - unsettled)).div_ceil(count.max(1));
         let root = crate::number::wide::isqrt_rem_u64(var).0;
         let sigma = root + (root * root < var) as u64;
+        let pixels = cols as u128 * rows as u128;
         // The floor spends what the cap leaves: three deviations there, and
         // three pixels more for a share the survey never saw (seed 8212: none
         // of 70 surveyed, 0.6 % of the frame, which cast 40.3 %).
-        let unsettled_all =
-            5 * (unsettled + 3 * sigma + 3) as u128 * (cols as u128 * rows as u128) * self.samples as u128;
+        let unsettled_all = 5 * (unsettled + 3 * sigma + 3) as u128 * pixels * self.samples as u128;
         let unsettled = unsettled + sigma;
-        let pixels = cols as u128 * rows as u128;
         // 5 (R + N/G (S + U C)) <= 2 samples N, times G.
         let budget = (2 * self.samples as u128 * pixels).saturating_sub(5 * rays as u128) * count as u128;
         let spent = 5 * settled_pilots as u128 * pixels;
@@ -563,7 +562,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     ///
     /// With adaptive sampling and [`ADAPTIVE_BUDGET_POINT`] to
     /// [`ADAPTIVE_MIN_POINT`] − 1 samples a pixel takes 40 % of them,
-    /// dithered to a power of two ([`dithered_cap`]). With adaptive sampling
+    /// dithered between powers of two ([`dithered_budget`]). With adaptive sampling
     /// (and at least [`ADAPTIVE_MIN_POINT`] samples) a
     /// pixel takes a pilot of [`adaptive_pilot`] lens samples (twice that in
     /// a lamp's footprint, see [`BrightFootprints`] and
@@ -710,11 +709,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 let Some(own) = stats.settled(n, self.samples) else {
                     // Settled at the plain pilot in a frame with rays to
                     // spare: on to the floor without further checks, then stop.
-                    let floor = dithered_cap(self.floor, col, row).min(self.samples);
-                    if !cfg!(feature = "no-spare-floor") && n == pilot && !risk && floor > n {
-                        limit = floor;
+                    if !cfg!(feature = "no-spare-floor") && n == pilot && !risk && self.floor > n {
+                        limit = dithered_cap(self.floor, col, row).min(self.samples);
                         check = u32::MAX;
-                        stratum = self.defocus.stratum(floor.min(full));
+                        stratum = self.defocus.stratum(limit.min(full));
                         continue;
                     }
                     spread = 0;
