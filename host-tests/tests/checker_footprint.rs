@@ -53,7 +53,7 @@ fn filtered<S: Scalar>(obj: &Object<S>, x: f64, y: f64, w: f64) -> f64 {
         },
     };
     let d = Vec3::new(S::ZERO, S::ZERO, S::ONE.neg());
-    match obj.checker_filtered(&hit, d, S::from_f64(w)) {
+    match obj.checker_filtered(&hit, d, Vec3::new(S::ZERO, S::ZERO, S::ONE), S::from_f64(w)) {
         Some(f) => f.to_f64(),
         None if obj.in_dark_square(&hit) => 0.25,
         None => 1.0,
@@ -89,6 +89,136 @@ fn the_filtered_checker_is_the_mean_over_the_footprint_in_both_number_types() {
     assert!(worst[1] < 0.01, "Q16.16: {}", worst[1]);
 }
 
+/// The mean over [x − e, x + e] of the square wave +1 on even cells of
+/// `side`, −1 on odd ones, by a fine midpoint grid.
+fn wave_mean(x: f64, e: f64, side: f64) -> f64 {
+    if e == 0.0 {
+        return if (x / side).floor() as i64 & 1 == 0 { 1.0 } else { -1.0 };
+    }
+    let k = 4000;
+    let sum: f64 = (0..k)
+        .map(|i| {
+            let u = x - e + 2.0 * e * (i as f64 + 0.5) / k as f64;
+            if (u / side).floor() as i64 & 1 == 0 {
+                1.0
+            } else {
+                -1.0
+            }
+        })
+        .sum();
+    sum / k as f64
+}
+
+#[test]
+fn footprints_on_stretched_slanted_planes_span_what_the_lens_disc_covers() {
+    // A plane squashed, stretched and turned (scales 0.3 to 3 per axis, so
+    // one world unit is up to 10 times more object units along one axis than
+    // another), seen slanted: the footprint, a disc of radius w across the
+    // ray projected along it onto the plane, covers in object space a box
+    // whose half-widths are found here by walking the disc's rim (f64), and
+    // the filter must average the checker over that box. Seed 7019's floor
+    // (scales 2.7, 2.3, 0.53) was blurred flat by a footprint sized by the
+    // ray's own stretch on every axis.
+    let mut s = 11u64;
+    let mut worst: [f64; 2] = [0.0; 2];
+    for case in 0..200 {
+        let sc = [0, 1, 2].map(|_| 0.3 * 10f64.powf(rng(&mut s)));
+        let to_world = Mat34::translate([rng(&mut s) * 10.0 - 5.0, rng(&mut s) * 4.0 - 2.0, -20.0])
+            .after(&Mat34::rotate(0, 360.0 * rng(&mut s)))
+            .after(&Mat34::rotate(1, 360.0 * rng(&mut s)))
+            .after(&Mat34::scale(sc))
+            .after(&Mat34::rotate(2, 360.0 * rng(&mut s)));
+        let side = 0.3 + 2.0 * rng(&mut s);
+        let b = to_world.inverse().unwrap().0;
+        // World unit normal: row 2 of world → object (the plane is object z = 0).
+        let nl = (b[2][0] * b[2][0] + b[2][1] * b[2][1] + b[2][2] * b[2][2]).sqrt();
+        let mut n = [b[2][0] / nl, b[2][1] / nl, b[2][2] / nl];
+        // A ray at least 25° off grazing, facing n's side.
+        let d = loop {
+            let v = [0, 1, 2].map(|_| rng(&mut s) * 2.0 - 1.0);
+            let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            if l > 0.2 && l < 1.0 {
+                let d = v.map(|x| x / l);
+                let c = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+                if c.abs() > 0.45 {
+                    if c > 0.0 {
+                        n = n.map(|x| -x);
+                    }
+                    break d;
+                }
+            }
+        };
+        let dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+        // Two unit vectors across the ray.
+        let a = if d[0].abs() < 0.6 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        let cross = |x: [f64; 3], y: [f64; 3]| {
+            [
+                x[1] * y[2] - x[2] * y[1],
+                x[2] * y[0] - x[0] * y[2],
+                x[0] * y[1] - x[1] * y[0],
+            ]
+        };
+        let e1 = cross(d, a);
+        let l1 = (e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]).sqrt();
+        let e1 = e1.map(|x| x / l1);
+        let e2 = cross(d, e1);
+        let w = 0.05 + 1.5 * rng(&mut s);
+        let mut half = [0.0f64; 2];
+        for i in 0..720 {
+            let th = i as f64 * std::f64::consts::PI / 360.0;
+            let x = [0, 1, 2].map(|k| w * (th.cos() * e1[k] + th.sin() * e2[k]));
+            let nx = x[0] * n[0] + x[1] * n[1] + x[2] * n[2];
+            let y = [0, 1, 2].map(|k| x[k] - d[k] * nx / dn);
+            for (k, h) in half.iter_mut().enumerate() {
+                *h = h.max((b[k][0] * y[0] + b[k][1] * y[1] + b[k][2] * y[2]).abs());
+            }
+        }
+        let p = [rng(&mut s) * 8.0 - 4.0, rng(&mut s) * 8.0 - 4.0];
+        let truth = 0.625 + 0.375 * wave_mean(p[0], half[0], side) * wave_mean(p[1], half[1], side);
+        fn got<S: Scalar>(to_world: &Mat34, side: f64, p: [f64; 2], d: [f64; 3], n: [f64; 3], w: f64) -> f64 {
+            let obj = Object::<S>::new(&ObjectDesc {
+                shape: Shape::Plane,
+                ka: [0.2; 3],
+                kd: [0.8; 3],
+                ks: [0.0; 3],
+                shine: 1.0,
+                texture: side,
+                to_world: *to_world,
+            })
+            .unwrap();
+            let hit = Hit {
+                t: S::ONE,
+                local: LocalHit {
+                    t: S::ONE,
+                    p: Vec3::new(S::from_f64(p[0]), S::from_f64(p[1]), S::ZERO),
+                    n: Vec3::new(S::ZERO, S::ZERO, S::ONE),
+                },
+            };
+            match obj.checker_filtered(&hit, Vec3::from_f64(d), Vec3::from_f64(n), S::from_f64(w)) {
+                Some(f) => f.to_f64(),
+                None if obj.in_dark_square(&hit) => 0.25,
+                None => 1.0,
+            }
+        }
+        let f = got::<f32>(&to_world, side, p, d, n, w);
+        let q = got::<I16F16>(&to_world, side, p, d, n, w);
+        let (ef, eq) = ((f - truth).abs(), (q - truth).abs());
+        assert!(
+            ef < 0.02 && eq < 0.02,
+            "case {case}: truth {truth}, f32 {f}, Q16.16 {q} (scales {sc:?}, half {half:?})"
+        );
+        worst = [worst[0].max(ef), worst[1].max(eq)];
+    }
+    eprintln!(
+        "worst error of the filtered darkening: f32 {:.4}, Q16.16 {:.4}",
+        worst[0], worst[1]
+    );
+}
+
 #[test]
 fn a_footprint_inside_one_square_or_of_zero_width_is_the_plain_checker() {
     let obj = textured_plane::<I16F16>(2.0);
@@ -101,14 +231,17 @@ fn a_footprint_inside_one_square_or_of_zero_width_is_the_plain_checker() {
         },
     };
     let d = Vec3::new(I16F16::ZERO, I16F16::ZERO, -I16F16::ONE);
-    assert_eq!(obj.checker_filtered(&hit(1.0, 1.0), d, I16F16::ZERO), None);
-    assert_eq!(obj.checker_filtered(&hit(1.0, 1.0), d, I16F16::from_num(0.9)), None);
+    let up = Vec3::new(I16F16::ZERO, I16F16::ZERO, I16F16::ONE);
+    assert_eq!(obj.checker_filtered(&hit(1.0, 1.0), d, up, I16F16::ZERO), None);
+    assert_eq!(obj.checker_filtered(&hit(1.0, 1.0), d, up, I16F16::from_num(0.9)), None);
     // Across a border, half and half: 5/8.
-    let f = obj.checker_filtered(&hit(2.0, 1.0), d, I16F16::from_num(0.5)).unwrap();
+    let f = obj
+        .checker_filtered(&hit(2.0, 1.0), d, up, I16F16::from_num(0.5))
+        .unwrap();
     assert!((f.to_num::<f64>() - 0.625).abs() < 1e-3, "{f}");
     // Untextured: never filtered.
     let plain = textured_plane::<I16F16>(0.0);
-    assert_eq!(plain.checker_filtered(&hit(2.0, 1.0), d, I16F16::ONE), None);
+    assert_eq!(plain.checker_filtered(&hit(2.0, 1.0), d, up, I16F16::ONE), None);
 }
 
 #[test]

@@ -229,6 +229,12 @@ impl<S: Scalar> Affine<S> {
     pub fn vector_coord(&self, i: usize, v: Vec3<S>) -> S {
         S::row_apply(&self.rows[i], v.to_array(), false)
     }
+
+    /// Entry (`i`, `j`) of the linear part (rounded to `S`; `j` 0 to 2).
+    #[inline]
+    pub fn entry(&self, i: usize, j: usize) -> S {
+        S::row_entry(&self.rows[i], j)
+    }
 }
 
 #[cfg(test)]

@@ -422,6 +422,28 @@ impl Kernels for I16F16 {
     fn row_apply(row: &FixedRow, v: [Self; 3], affine: bool) -> Self {
         row.apply(v, affine)
     }
+    // Out of line on the M0: rare (box-filtered checkers), one copy.
+    #[cfg_attr(lensray_v6m, inline(never))]
+    fn row_entry(row: &FixedRow, j: usize) -> Self {
+        // Entries m 2^-shift: Q16.16 bits m 2^(16 - shift), in 32 bits.
+        let m = row.m.get(j).copied().unwrap_or(0);
+        let bits = match row.shift.checked_sub(16) {
+            Some(0) => m,
+            Some(s) => ((m >> (s - 1)) + 1) >> 1,
+            None => {
+                let up = 16 - row.shift;
+                let x = m << up;
+                if x >> up == m {
+                    x
+                } else if m < 0 {
+                    i32::MIN
+                } else {
+                    i32::MAX
+                }
+            }
+        };
+        I16F16::from_bits(bits)
+    }
     fn rows_apply_unit(rows: &[FixedRow; 3], v: [Self; 3]) -> ([Self; 3], Self, Self) {
         unit_of_exact(FixedDir::exact_rows(rows, v.map(|x| x.to_bits() as i64), false, 0))
     }

@@ -175,6 +175,9 @@ impl Kernels for f32 {
             s
         }
     }
+    fn row_entry(row: &FloatRow, j: usize) -> Self {
+        row.hi[j % 3]
+    }
     fn rows_apply_unit(rows: &[FloatRow; 3], v: [Self; 3]) -> ([Self; 3], Self, Self) {
         let w = [0, 1, 2].map(|k| Self::row_apply(&rows[k], v, false));
         let (unit, len) = Self::normalize3(w);

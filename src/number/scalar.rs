@@ -132,6 +132,8 @@ mod kernels {
         fn row_from_f64(r: [f64; 4]) -> Self::Row;
         /// `a·x + b·y + c·z (+ t if affine)`, with one rounding at the end.
         fn row_apply(row: &Self::Row, v: [Self; 3], affine: bool) -> Self;
+        /// The row's linear entry `j` (0 to 2: `a`, `b`, `c`), rounded to `Self`.
+        fn row_entry(row: &Self::Row, j: usize) -> Self;
 
         /// The direction `M v` for the three rows of a matrix, as a unit vector
         /// with its length `|M v|` and, where that is below 1, the reciprocal

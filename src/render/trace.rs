@@ -143,7 +143,7 @@ impl<S: Scalar> Scene<S> {
         let m = &obj.material;
         let filtered = match footprint {
             Some((defocus, stratum)) if obj.texture > S::ZERO && stratum > S::ZERO => {
-                obj.checker_filtered(&hit, d, defocus.width(d, hit.t, stratum))
+                obj.checker_filtered(&hit, d, n, defocus.width(d, hit.t, stratum))
             }
             _ => None,
         };

@@ -545,41 +545,37 @@ impl<S: Scalar> Object<S> {
     }
 
     /// The checker's darkening (1 on a light square, 1/4 on a dark one)
-    /// averaged over a lens ray's footprint: a box of half-width `w` world
-    /// units in the surface's tangent plane around the hit. `None` where the
-    /// box lies inside one square (then [`Object::in_dark_square`] decides,
-    /// bit for bit as before), or without texture. The checker is a product of
-    /// square waves along the object axes, so the box average is the product
-    /// of each wave's average, the difference of its integral (a triangle
-    /// wave) at the box's ends over the box's width.
+    /// averaged over a lens ray's footprint: a disc of radius `w` world units
+    /// across the ray (unit `d`) projected along it onto the surface, whose
+    /// unit world normal at the hit is `n_world` (either side). `None` where
+    /// the footprint lies inside one square (then [`Object::in_dark_square`]
+    /// decides, bit for bit as before), or without texture. The checker is a
+    /// product of square waves along the object axes, so the average over the
+    /// footprint's bounding box is the product of each wave's average, the
+    /// difference of its integral (a triangle wave) at the box's ends over
+    /// the box's width.
     // Out of line: inlined into the trace it cost 4 KiB of Cortex-M0 flash.
     #[inline(never)]
-    pub fn checker_filtered(&self, hit: &Hit<S>, d: Vec3<S>, w: S) -> Option<S> {
+    pub fn checker_filtered(&self, hit: &Hit<S>, d: Vec3<S>, n_world: Vec3<S>, w: S) -> Option<S> {
         if self.inv_texture == S::ZERO || w <= S::ZERO {
             return None;
         }
-        // Unit on every shape but the cone's side: a square root only there.
-        let n = if self.shape == Shape::Cone {
-            S::normalize3(hit.local.n.to_array()).0
-        } else {
-            hit.local.n.to_array()
-        };
-        let p = hit.local.p.to_array();
-        // A slanted ray's footprint stretches by about 1/cos along the ray's
-        // trace on the surface (t, the local direction's tangential part, over
-        // its normal part; at most 16 times): a grazing view of a far floor,
-        // where squares flip most across the lens. One division a ray.
+        let (n, p) = (hit.local.n.to_array(), hit.local.p.to_array());
+        // Object coordinate k of a world offset y is B_k·y (B_k row k of
+        // world → object). Projected along d onto the tangent plane, y moves
+        // by −d (n_w·y)/(n_w·d): coordinate k then reads c_k·y with
+        // c_k = B_k − (B_k·d / n_w·d) n_w, and c_k·d = 0, so the footprint
+        // spans w |c_k| of axis k. Exact for any affine map (a squashed
+        // floor's squares stay sharp along its long side: seed 7019).
         let v = self.to_object.vector(d).to_array();
-        // World to object lengths along the ray, over the square's side: the
-        // footprint's radius in cells (exact for rotations and uniform scales).
-        let w_cells = w.mul(S::length3(v)).div(self.texture);
-        let vn = v[0].mul(n[0]).add(v[1].mul(n[1])).add(v[2].mul(n[2]));
-        let slant = S::ONE.div(vn.abs().max(S::from_q15(64)));
+        // n_w faces the ray (n_w·d < 0): the footprint's 1/cos, held to 16.
+        let slant = S::ONE.div(d.dot(n_world).neg().max(S::from_q15(2048)));
+        let w_cells = w.div(self.texture);
         let mut product = S::ONE;
         let mut blurred = false;
         for k in 0..3 {
             let (cell, frac) = S::checker_pos(p[k], self.texture, self.inv_texture);
-            let (mean, b) = axis_mean(frac, n[k], v[k], vn, slant, w_cells);
+            let (mean, b) = axis_mean(self, k, frac, n[k], v[k].mul(slant), n_world, w_cells);
             blurred |= b;
             product = if cell & 1 == 1 {
                 product.mul(mean).neg()
@@ -707,26 +703,24 @@ fn box_mean<S: Scalar>(frac: S, e: S) -> S {
     tri(frac.add(e)).sub(tri(frac.sub(e))).div(e.add(e))
 }
 
-/// The checker's square wave along one object axis averaged over a lens
-/// ray's footprint, relative to the hit's cell (1 where the box lies inside
-/// it), and whether the box crossed a border. `frac` is the hit's place in
-/// its cell, `n_k` and `v_k` the normal's and the local direction's axis
-/// components, `vn` their dot product, `slant` 1/|vn| and `w_cells` the
-/// footprint's radius in cells per unit of extent. Out of line: one copy,
-/// not three, in the Cortex-M0's flash.
+/// The checker's square wave along object axis `k` of `obj` averaged over a
+/// lens ray's footprint, relative to the hit's cell (1 where the footprint
+/// lies inside it), and whether it crossed a border. `frac` is the hit's
+/// place in its cell, `n_k` the local normal's component, `r` the ray's
+/// object coordinate k per world unit over −n_w·d, `n_world` the world normal
+/// facing the ray, `w_cells` the footprint's radius over the square's side
+/// (see [`Object::checker_filtered`]). Out of line: one copy, not three, in
+/// the Cortex-M0's flash.
 #[inline(never)]
-fn axis_mean<S: Scalar>(frac: S, n_k: S, v_k: S, vn: S, slant: S, w_cells: S) -> (S, bool) {
-    // The footprint, an ellipse of half-axes w/cos along the ray's trace t
-    // and w across it, spans w √((1 − n_k²) + (t_k/cos)²) of the axis: as
-    // max + 3/8 min of 1 − n_k² (at most the root) and t_k/cos (at most 16).
-    let across = S::ONE.sub(n_k.mul(n_k)).max(S::ZERO);
-    let along = v_k.sub(n_k.mul(vn)).abs().mul(slant).min(S::from_i32(16));
-    let (big, small) = if across > along {
-        (across, along)
-    } else {
-        (along, across)
-    };
-    let e = w_cells.mul(big.add(small.mul(S::from_q15(12288))));
+fn axis_mean<S: Scalar>(obj: &Object<S>, k: usize, frac: S, n_k: S, r: S, n_world: Vec3<S>, w_cells: S) -> (S, bool) {
+    // A flat face's normal axis: the face lies in one plane of it.
+    if n_k.abs() == S::ONE {
+        return (S::ONE, false);
+    }
+    let n_world = n_world.to_array();
+    // c_k = B_k + r n_w.
+    let c: [S; 3] = core::array::from_fn(|j| obj.to_object.entry(k, j).add(n_world[j].mul(r)));
+    let e = w_cells.mul(S::length3(c));
     if e <= frac.min(S::ONE.sub(frac)) {
         (S::ONE, false)
     } else {
