@@ -3,13 +3,14 @@
 //! and every ray they cast see what is spread over at least
 //! `FAR_COC_PIXELS` (circles of confusion recomputed here in f64 from each
 //! ray's own hit) and their rays all met lamps or all met none, and then it
-//! is exactly (1, 2, 1)/4 of the three; never
+//! is exactly (1, 2, 1)/4 of the three, or (1, 4, 6, 4, 1)/16 of five where
+//! it and its four neighbours see only what is spread over twice that; never
 //! with `sampler independent` or `adaptive off`; the progressive passes end
 //! on the same picture.
 
 use embedded_graphics::mock_display::MockDisplay;
 use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
-use lensray::unstable::render::scanline::{far_ratio, FAR_COC_PIXELS};
+use lensray::unstable::render::scanline::{far_ratio, FAR_COC_PIXELS, WIDE_COC_FACTOR};
 use lensray::unstable::sampler::{PixelSamples, Sampler};
 use lensray::{progressive, CameraSample, Renderer, Scalar, Scene, I16F16};
 
@@ -52,6 +53,14 @@ fn smallest_coc<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row:
     (coc, met)
 }
 
+fn mix5(p: &[Rgb888]) -> Rgb888 {
+    let m = |f: fn(&Rgb888) -> u8| {
+        let v: u32 = [1, 4, 6, 4, 1].iter().zip(p).map(|(w, c)| w * f(c) as u32).sum();
+        ((v + 8) / 16) as u8
+    };
+    Rgb888::new(m(|c| c.r()), m(|c| c.g()), m(|c| c.b()))
+}
+
 fn mix(a: Rgb888, b: Rgb888, c: Rgb888) -> Rgb888 {
     let m = |x: u8, y: u8, z: u8| ((x as u32 + 2 * y as u32 + z as u32 + 2) / 4) as u8;
     Rgb888::new(m(a.r(), b.r(), c.r()), m(a.g(), b.g(), c.g()), m(a.b(), b.b(), c.b()))
@@ -67,7 +76,23 @@ fn check<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, label: &str) -> (u32, u32)
         r.render_row(row, &mut out);
         let alone: Vec<Rgb888> = (0..w).map(|c| r.pixel(c, row)).collect();
         let info: Vec<(f64, u8)> = (0..w).map(|c| smallest_coc(&r, scene, c, row)).collect();
+        let wide_coc = WIDE_COC_FACTOR as f64 * FAR_COC_PIXELS;
         for c in 0..w as usize {
+            // Five alike, all spread over twice the gate: the 5-tap (2 % of slack as below).
+            if c > 1 && c + 2 < w as usize {
+                let five = &info[c - 2..=c + 2];
+                let least5 = five.iter().map(|x| x.0).fold(f64::INFINITY, f64::min);
+                let alike5 = five[0].1 != 3 && five.iter().all(|x| x.1 == five[0].1);
+                if alike5 && least5 >= 1.02 * wide_coc {
+                    assert_eq!(out[c], mix5(&alone[c - 2..=c + 2]), "{label} ({c}, {row}) 5-tap");
+                    filtered += 1;
+                    continue;
+                }
+                // Within the slack either filter may hold.
+                if alike5 && least5 >= 0.98 * wide_coc && out[c] == mix5(&alone[c - 2..=c + 2]) {
+                    continue;
+                }
+            }
             let inner = c > 0 && c + 1 < w as usize;
             let window = if inner { &info[c - 1..=c + 1] } else { &info[c..=c] };
             let least = window.iter().map(|x| x.0).fold(f64::INFINITY, f64::min);

@@ -670,6 +670,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // The scanline filter's gate: true while every ray met something far
         // out of focus; what they met: bit 0 a lamp, bit 1 anything else.
         let mut far = self.filters();
+        // And while every ray met something twice as far out of focus (the 5-tap).
+        let mut wide = far;
         let mut lamps = 0u8;
         let mut stratum = self.defocus.stratum(check.min(full));
         while n < limit {
@@ -685,10 +687,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 far = match t {
                     Some((i, t)) => {
                         lamps |= if self.bright.is_bright(i) { 1 } else { 2 };
-                        self.defocus.far_hit(ray.dir, t)
+                        let (f, w) = self.defocus.far_hits(ray.dir, t);
+                        wide &= w;
+                        f
                     }
                     None => {
                         lamps |= 2;
+                        wide &= self.defocus.wide_miss();
                         self.defocus.far_miss()
                     }
                 };
@@ -732,7 +737,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         }
         let colour = Vec3::new(S::acc_mean(acc[0], n), S::acc_mean(acc[1], n), S::acc_mean(acc[2], n));
         // A pixel that saw a lamp through part of the lens is on its bokeh's rim: never filtered.
-        let class = if far && lamps != 3 { lamps } else { 0 };
+        let class = if far && lamps != 3 {
+            lamps | if wide { scanline::WIDE } else { 0 }
+        } else {
+            0
+        };
         (colour, n, spread, class)
     }
 
