@@ -315,6 +315,17 @@ impl Kernels for I16F16 {
         mul_i32(x.to_bits(), scale.to_bits()) >> (29 + b)
     }
     #[inline]
+    fn checker_near(x: Self, side: Self, scale: Self, on_face: bool) -> (i64, bool) {
+        let b = 32 - side.to_bits().leading_zeros();
+        let p = mul_i32(x.to_bits(), scale.to_bits());
+        let s = 29 + b;
+        // The remainder below the cell, and 2^-10 object units (64 Q16.16
+        // steps) at its scale: `scale` is 2^(29 + b) / side per Q16.16 step.
+        let (r, band) = (p & ((1i64 << s) - 1), (scale.to_bits() as i64) << 6);
+        let near = (r < band && !(r == 0 && on_face)) || (1i64 << s) - r <= band;
+        (p >> s, near)
+    }
+    #[inline]
     fn checker_pos(x: Self, side: Self, scale: Self) -> (i64, Self) {
         let b = 32 - side.to_bits().leading_zeros();
         let p = mul_i32(x.to_bits(), scale.to_bits());
@@ -520,6 +531,17 @@ impl Kernels for I16F16 {
         solid: u8,
     ) -> Option<([Self; 3], crate::number::q16::Decided)> {
         crate::number::q16::exact_point(rows, o, d, s, rim, solid)
+    }
+    fn exact_cells(
+        rows: &[FixedRow; 3],
+        o: [Self; 3],
+        d: &FixedDir,
+        s: Self,
+        hit: ([Self; 3], [Self; 3]),
+        surface: u8,
+        checker: (Self, Self),
+    ) -> Option<i64> {
+        crate::number::q16::exact_cells(rows, o, d, s, hit, surface, checker)
     }
     #[inline]
     fn acc_zero() -> i64 {
