@@ -314,16 +314,18 @@ impl Kernels for I16F16 {
         let b = 32 - side.to_bits().leading_zeros();
         mul_i32(x.to_bits(), scale.to_bits()) >> (29 + b)
     }
-    #[inline]
+    // In place (the side's bit count shared by the three axes: no CLZ on the M0).
+    #[inline(always)]
     fn checker_near(x: Self, side: Self, scale: Self, on_face: bool) -> (i64, bool) {
-        let b = 32 - side.to_bits().leading_zeros();
-        let p = mul_i32(x.to_bits(), scale.to_bits());
-        let s = 29 + b;
-        // The remainder below the cell, and 2^-10 object units (64 Q16.16
-        // steps) at its scale: `scale` is 2^(29 + b) / side per Q16.16 step.
-        let (r, band) = (p & ((1i64 << s) - 1), (scale.to_bits() as i64) << 6);
-        let near = (r < band && !(r == 0 && on_face)) || (1i64 << s) - r <= band;
-        (p >> s, near)
+        let cell = Self::checker_cell(x, side, scale);
+        // Where x lies in its cell, in 32-bit steps (one multiply on the M0):
+        // the cell's start as `cell · side` drifts from the exact border by a
+        // cell index times side's rounding, 2⁻¹⁷ a cell (under the band up
+        // to 128 cells out; a far floor's squares are f32's doubt too).
+        let (at, side) = (x.to_bits().wrapping_sub((cell as i32).wrapping_mul(side.to_bits())), side.to_bits());
+        // Within 2⁻¹⁰ object units (64 steps) of either border.
+        let near = (at as u32) < 64 && !(at == 0 && on_face) || (side.wrapping_sub(at) as u32) <= 64;
+        (cell, near)
     }
     #[inline]
     fn checker_pos(x: Self, side: Self, scale: Self) -> (i64, Self) {
