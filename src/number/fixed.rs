@@ -322,7 +322,10 @@ impl Kernels for I16F16 {
         // the cell's start as `cell · side` drifts from the exact border by a
         // cell index times side's rounding, 2⁻¹⁷ a cell (under the band up
         // to 128 cells out; a far floor's squares are f32's doubt too).
-        let (at, side) = (x.to_bits().wrapping_sub((cell as i32).wrapping_mul(side.to_bits())), side.to_bits());
+        let (at, side) = (
+            x.to_bits().wrapping_sub((cell as i32).wrapping_mul(side.to_bits())),
+            side.to_bits(),
+        );
         // Within 2⁻¹⁰ object units (64 steps) of either border.
         let near = (at as u32) < 64 && !(at == 0 && on_face) || (side.wrapping_sub(at) as u32) <= 64;
         (cell, near)

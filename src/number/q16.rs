@@ -239,9 +239,9 @@ pub(crate) fn exact_cells(
     (side, scale): (I16F16, I16F16),
 ) -> Option<i64> {
     let q = fine_point(rows, o, d, s)?;
-    let dir = local_dir(rows, d)?.map(|x| x >> 7);
+    let dir = local_dir(rows, d)?.map(|x| x >> 11);
     let nb = n.map(|x| x.to_bits() as i64);
-    // n · D, at 2^-16 of D's scale (below 2^43).
+    // D to 20 bits; n · D at 2^-16 of D's scale (below 2^39).
     let slope = nb[0] * dir[0] + nb[1] * dir[1] + nb[2] * dir[2];
     // f / 2 at 2^-46.
     let half_f = if surface == FLAT {
@@ -259,7 +259,8 @@ pub(crate) fn exact_cells(
         });
         shr_round_call(f, 15)
     };
-    if slope == 0 || half_f.unsigned_abs() >= 1 << 33 {
+    // Up to 2^-6 from the surface (the step's product below 2^60).
+    if slope == 0 || half_f.unsigned_abs() >= 1 << 40 {
         return None;
     }
     let b = 32 - side.to_bits().leading_zeros();

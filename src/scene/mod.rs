@@ -550,7 +550,7 @@ impl<S: Scalar> Object<S> {
     /// ray (`Kernels::exact_cells`; Q16.16's point, rounded to 2⁻¹⁶ a
     /// component after a re-origin and a transform, decided borders 6e-6
     /// away the wrong way: seeds 16044, 21213, 22268).
-    pub(crate) fn in_dark_square_of(&self, hit: &Hit<S>, o: Vec3<S>, d: &S::Dir) -> bool {
+    pub fn in_dark_square_of(&self, hit: &Hit<S>, o: Vec3<S>, d: &S::Dir) -> bool {
         if self.inv_texture == S::ZERO {
             return false;
         }
@@ -563,6 +563,12 @@ impl<S: Scalar> Object<S> {
             sum = self.exact_cells(hit, o, d).unwrap_or(sum);
         }
         sum & 1 == 1
+    }
+
+    /// [`Object::in_dark_square_of`] for a hit of [`Object::intersect`]'s ray
+    /// `o + t d` (`d` as rounded: the property test's).
+    pub fn in_dark_square_along(&self, hit: &Hit<S>, o: Vec3<S>, d: Vec3<S>) -> bool {
+        self.in_dark_square_of(hit, o, &S::dir_from(d.to_array()))
     }
 
     /// [`Object::in_dark_square_of`]'s retake (cold: a few hits a frame).
