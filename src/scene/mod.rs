@@ -559,7 +559,8 @@ impl<S: Scalar> Object<S> {
         let cell = |x: S, nx: S| S::checker_near(x, side, k, nx != S::ZERO);
         let (a, b, c) = (cell(p.x, n.x), cell(p.y, n.y), cell(p.z, n.z));
         let mut sum = a.0 + b.0 + c.0;
-        if a.1 || b.1 || c.1 {
+        // Never with the feature `no-checker-retake` (the micro:bit's flash).
+        if !cfg!(feature = "no-checker-retake") && (a.1 || b.1 || c.1) {
             sum = self.exact_cells(hit, o, d).unwrap_or(sum);
         }
         sum & 1 == 1
@@ -697,6 +698,9 @@ pub struct Scene<S: Scalar> {
     pub(crate) objects: heapless::Vec<Object<S>, MAX_OBJECTS>,
     /// The point lights, in file order (see [`Scene::lights`]).
     pub(crate) lights: heapless::Vec<Light<S>, MAX_LIGHTS>,
+    /// Whether a checker hit near a border retakes its cells from the exact
+    /// ray (fix 16; see [`Scene::set_checker_retake`]). Not baked, not parsed.
+    pub(crate) checker_retake: bool,
 }
 
 impl<S: Scalar> Scene<S> {
@@ -714,6 +718,24 @@ impl<S: Scalar> Scene<S> {
     pub fn truncate_lights(&mut self, n: usize) {
         self.lights.truncate(n);
     }
+
+    /// Whether a Q16.16 hit within 2⁻¹⁰ of a checker border takes its cells
+    /// again from the exact ray ([`Object::in_dark_square_of`], fix 16): on
+    /// by default; off, every hit keeps its rounded point's cells
+    /// ([`Object::in_dark_square`]), as a build with the feature
+    /// `no-checker-retake` (the micro:bit's) always does. For the host to
+    /// render as the micro:bit does (its firmware test); f32 never retakes.
+    #[doc(hidden)]
+    pub fn set_checker_retake(&mut self, on: bool) {
+        self.checker_retake = on;
+    }
+
+    /// Whether checker hits near a border are retaken: the switch, and
+    /// never with the feature `no-checker-retake`.
+    #[inline(always)]
+    pub(crate) fn checker_retakes(&self) -> bool {
+        !cfg!(feature = "no-checker-retake") && self.checker_retake
+    }
 }
 
 impl<S: Scalar> Default for Scene<S> {
@@ -725,6 +747,7 @@ impl<S: Scalar> Default for Scene<S> {
             background: Vec3::ZERO,
             shadows: false,
             objects: heapless::Vec::new(),
+            checker_retake: true,
             lights: heapless::Vec::new(),
         }
     }
