@@ -326,8 +326,14 @@ impl Kernels for I16F16 {
             x.to_bits().wrapping_sub((cell as i32).wrapping_mul(side.to_bits())),
             side.to_bits(),
         );
-        // Within 2⁻¹⁰ object units (64 steps) of either border.
-        let near = (at as u32) < 64 && !(at == 0 && on_face) || (side.wrapping_sub(at) as u32) <= 64;
+        // Within 2⁻¹⁰ object units (64 steps) of either border, on either
+        // side: the drift puts x a few steps below its cell's start as
+        // computed (`at` < 0) or past its end (`at` > side) where it lies
+        // just above or below a border (tested unsigned, those were missed:
+        // most of the property test's wrong squares after the retake). A
+        // flat face's own axis (`on_face`) is exact: nothing to retake.
+        let near = !on_face
+            && ((at.wrapping_add(64) as u32) <= 128 || (side.wrapping_sub(at).wrapping_add(64) as u32) <= 128);
         (cell, near)
     }
     #[inline]

@@ -116,8 +116,8 @@ mod kernels {
         /// [`Kernels::checker_cell`], and whether `x` may lie on the other side
         /// of a border than the exact hit (within 2⁻¹⁰ object units of one:
         /// Q16.16's rounded point; never for f32, whose images stay as they
-        /// were). `on_face`: a point exactly on a border there is the face's
-        /// own coordinate (the hit's normal along this axis), not in doubt.
+        /// were). `on_face`: `x` is a flat face's own coordinate (the hit's
+        /// normal along this axis), exact: never in doubt.
         fn checker_near(x: Self, side: Self, scale: Self, _on_face: bool) -> (i64, bool) {
             (Self::checker_cell(x, side, scale), false)
         }
