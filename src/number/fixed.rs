@@ -332,8 +332,8 @@ impl Kernels for I16F16 {
         // just above or below a border (tested unsigned, those were missed:
         // most of the property test's wrong squares after the retake). A
         // flat face's own axis (`on_face`) is exact: nothing to retake.
-        let near = !on_face
-            && ((at.wrapping_add(64) as u32) <= 128 || (side.wrapping_sub(at).wrapping_add(64) as u32) <= 128);
+        let near =
+            !on_face && ((at.wrapping_add(64) as u32) <= 128 || (side.wrapping_sub(at).wrapping_add(64) as u32) <= 128);
         (cell, near)
     }
     #[inline]
