@@ -192,3 +192,30 @@ fn checker_border_decisions_agree_with_f64() {
         assert!(wrong * 400 <= rays, "{shape:?}: {wrong} of {rays} unlike f64");
     }
 }
+
+/// The switch the micro:bit's reference render uses (`no-checker-retake` on
+/// the board, `Scene::set_checker_retake(false)` on the host) does take the
+/// retake out: seed 16044's checker pixels (fix 16's first scene) differ,
+/// and only through the retake; f32, which never retakes, is unchanged.
+#[test]
+fn the_micro_bit_reference_renders_without_the_retake() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("corpus/sweep-regressions/seed-16044-pinhole.scene");
+    let (w, h) = (160, 120);
+    let q16 = lensray_host::load_scene::<I16F16>(&path).unwrap();
+    let with = lensray_host::render_image(&q16, w, h, None, &|| {});
+    let without = lensray_host::render_image_unfiltered(&q16, w, h, None);
+    let mut off = q16.clone();
+    off.set_checker_retake(false);
+    let off = lensray_host::render_image(&off, w, h, None, &|| {});
+    assert_eq!(without.pixels, off.pixels, "a pinhole frame: nothing to filter");
+    let differ = with.pixels.iter().zip(&without.pixels).filter(|(a, b)| a != b).count();
+    assert!(differ > 0, "the retake changed no pixel of seed 16044");
+    let f = lensray_host::load_scene::<f32>(&path).unwrap();
+    let (a, b) = (
+        lensray_host::render_image(&f, w, h, None, &|| {}),
+        lensray_host::render_image_unfiltered(&f, w, h, None),
+    );
+    assert_eq!(a.pixels, b.pixels, "f32 never retakes");
+    println!("seed 16044 at {w}x{h}: {differ} pixels retaken");
+}
