@@ -112,6 +112,8 @@ fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
         shadows,
         objects,
         lights,
+        // A host-side switch (on when loaded), not part of the bake.
+        checker_retake: _,
     } = s;
     ambient.put(w);
     background.put(w);
@@ -292,6 +294,7 @@ impl<S: BakeScalar> Baked<S> {
             shadows,
             objects,
             lights,
+            checker_retake: _,
         } = &mut self.scene;
         ambient.take(r);
         background.take(r);

@@ -39,16 +39,20 @@ pub fn render_image<S: Scalar + Send + Sync>(
 }
 
 /// [`render_image`] before the scanline filter, every pixel as
-/// [`Renderer::pixel`] has it: what the micro:bit's build (features
-/// `no-scanline-filter` and `no-spare-floor`) draws of a frame without a
-/// survey (`point` under 10, or too small), such as its tests' frames.
+/// [`Renderer::pixel`] has it, and without fix 16's checker retake
+/// (`Scene::set_checker_retake(false)`): what the micro:bit's build
+/// (features `no-scanline-filter`, `no-spare-floor` and `no-checker-retake`)
+/// draws of a frame without a survey (`point` under 10, or too small), such
+/// as its tests' frames.
 pub fn render_image_unfiltered<S: Scalar + Send + Sync>(
     scene: &Scene<S>,
     width: u32,
     height: u32,
     samples: Option<u32>,
 ) -> Image {
-    let renderer = Renderer::new_with_samples(scene, width, height, samples);
+    let mut scene = scene.clone();
+    scene.set_checker_retake(false);
+    let renderer = Renderer::new_with_samples(&scene, width, height, samples);
     let mut pixels = vec![Rgb888::BLACK; width as usize * height as usize];
     if width > 0 {
         pixels

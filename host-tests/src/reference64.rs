@@ -250,7 +250,8 @@ impl Object64 {
         unit(self.to_object.linear_transpose().apply(n, false))
     }
 
-    fn dark(&self, p: V) -> bool {
+    /// Whether the checker darkens the object-space point `p`'s square.
+    pub fn dark(&self, p: V) -> bool {
         self.texture > 0.0 && p.iter().map(|x| (x / self.texture).floor() as i64).sum::<i64>() & 1 == 1
     }
 }

@@ -70,7 +70,7 @@ fn under(files: &[std::path::PathBuf], psnr: f64, within2: f64, line: f64) -> Ve
 #[test]
 fn every_regression_scene_meets_the_floors() {
     let files = corpus("sweep-regressions");
-    assert!(files.len() >= 67, "the corpus lost scenes");
+    assert!(files.len() >= 68, "the corpus lost scenes");
     let bad = under(&files, MIN_PSNR, MIN_WITHIN2, MAX_LINE_160);
     assert!(bad.is_empty(), "under the floors: {bad:?}");
 }
@@ -80,12 +80,11 @@ fn every_regression_scene_meets_the_floors() {
 /// measured when filed, with a small margin), so that none can get worse unseen.
 #[test]
 fn open_regression_scenes_get_no_worse() {
-    const HELD: [(&str, f64, f64, f64); 8] = [
+    const HELD: [(&str, f64, f64, f64); 7] = [
         ("seed-5116-pinhole", 47.0, 0.999, 2.2),
         ("seed-9206-pinhole", 46.4, 0.999, 3.4),
         ("seed-12124-pinhole", 45.7, 0.999, 2.15),
         ("seed-13193-pinhole", 38.6, 0.999, 2.2),
-        ("seed-16044-pinhole", 43.0, 0.999, 2.25),
         ("seed-17035-pinhole", 43.3, 0.999, 2.2),
         ("seed-21213-pinhole", 43.3, 0.999, 2.1),
         ("seed-22268-pinhole", 43.9, 0.999, 2.15),

@@ -218,6 +218,29 @@ impl<S: Scalar> Affine<S> {
             .map(|(p, r)| (Vec3::from_array(p), r))
     }
 
+    /// The checker's cells of a hit retaken from the exact ray, where the
+    /// type has the kernel (`Kernels::exact_cells`).
+    #[inline]
+    pub fn exact_cells(
+        &self,
+        o: Vec3<S>,
+        d: &S::Dir,
+        s: S,
+        hit: (Vec3<S>, Vec3<S>),
+        surface: u8,
+        checker: (S, S),
+    ) -> Option<i64> {
+        S::exact_cells(
+            &self.rows,
+            o.to_array(),
+            d,
+            s,
+            (hit.0.to_array(), hit.1.to_array()),
+            surface,
+            checker,
+        )
+    }
+
     /// One coordinate of a transformed point (`i` in 0..3).
     #[inline]
     pub fn point_coord(&self, i: usize, p: Vec3<S>) -> S {

@@ -314,6 +314,28 @@ impl Kernels for I16F16 {
         let b = 32 - side.to_bits().leading_zeros();
         mul_i32(x.to_bits(), scale.to_bits()) >> (29 + b)
     }
+    // In place (the side's bit count shared by the three axes: no CLZ on the M0).
+    #[inline(always)]
+    fn checker_near(x: Self, side: Self, scale: Self, on_face: bool) -> (i64, bool) {
+        let cell = Self::checker_cell(x, side, scale);
+        // Where x lies in its cell, in 32-bit steps (one multiply on the M0):
+        // the cell's start as `cell · side` drifts from the exact border by a
+        // cell index times side's rounding, 2⁻¹⁷ a cell (under the band up
+        // to 128 cells out; a far floor's squares are f32's doubt too).
+        let (at, side) = (
+            x.to_bits().wrapping_sub((cell as i32).wrapping_mul(side.to_bits())),
+            side.to_bits(),
+        );
+        // Within 2⁻¹⁰ object units (64 steps) of either border, on either
+        // side: the drift puts x a few steps below its cell's start as
+        // computed (`at` < 0) or past its end (`at` > side) where it lies
+        // just above or below a border (tested unsigned, those were missed:
+        // most of the property test's wrong squares after the retake). A
+        // flat face's own axis (`on_face`) is exact: nothing to retake.
+        let near =
+            !on_face && ((at.wrapping_add(64) as u32) <= 128 || (side.wrapping_sub(at).wrapping_add(64) as u32) <= 128);
+        (cell, near)
+    }
     #[inline]
     fn checker_pos(x: Self, side: Self, scale: Self) -> (i64, Self) {
         let b = 32 - side.to_bits().leading_zeros();
@@ -520,6 +542,17 @@ impl Kernels for I16F16 {
         solid: u8,
     ) -> Option<([Self; 3], crate::number::q16::Decided)> {
         crate::number::q16::exact_point(rows, o, d, s, rim, solid)
+    }
+    fn exact_cells(
+        rows: &[FixedRow; 3],
+        o: [Self; 3],
+        d: &FixedDir,
+        s: Self,
+        hit: ([Self; 3], [Self; 3]),
+        surface: u8,
+        checker: (Self, Self),
+    ) -> Option<i64> {
+        crate::number::q16::exact_cells(rows, o, d, s, hit, surface, checker)
     }
     #[inline]
     fn acc_zero() -> i64 {

@@ -33,7 +33,7 @@ pub(crate) mod quadric;
 mod scalar;
 pub(crate) mod wide;
 
-pub(crate) use q16::{Decided, CONE, CUBE, CYLINDER, HIGH_CAP, LOW_CAP, SIDE};
+pub(crate) use q16::{Decided, CONE, CUBE, CYLINDER, FLAT, HIGH_CAP, LOW_CAP, ROUND, SIDE};
 pub use q16::{FixedDir, FixedRow};
 pub use scalar::{BakeScalar, Scalar};
 // The unit tests check kernels directly.

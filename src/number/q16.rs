@@ -179,18 +179,7 @@ pub(crate) fn exact_point(
     rim: Option<[I16F16; 3]>,
     solid: u8,
 ) -> Option<([I16F16; 3], Decided)> {
-    let g = (d.e as i32).checked_neg().filter(|g| (1..=30).contains(g))? as u32;
-    let (mut hi, mut lo) = ([0i64; 3], [0i64; 3]);
-    for i in 0..3 {
-        (hi[i], lo[i]) = split_at_g(o[i].to_bits(), d.m[i], s.to_bits() as i64, g, d.o_lo[i] as i64)?;
-    }
-    // Each part through the rows' exact sums (31 significant bits kept: 2^-31
-    // of the point's size), then added at 2^-30.
-    let (a, b) = (
-        FixedDir::exact_rows(rows, hi, true, -16),
-        FixedDir::exact_rows(rows, lo, false, -16 - g as i32),
-    );
-    let fine: [i64; 3] = core::array::from_fn(|j| at30(a.m[j], a.e as i32) + at30(b.m[j], b.e as i32));
+    let fine = fine_point(rows, o, d, s)?;
     let point = fine.map(round14);
     let exact = match solid {
         CUBE => cube_entry(fine, rows, d),
@@ -198,6 +187,96 @@ pub(crate) fn exact_point(
         _ => rim.and_then(|u| within_rim(fine, u)).map(|x| (x, 0)),
     };
     Some((point, exact))
+}
+
+/// [`exact_point`]'s point `rows · (o + s d)` at 2^-30, unrounded (31
+/// significant bits of each part: 2^-31 of the point's size).
+#[inline(never)]
+fn fine_point(rows: &[FixedRow; 3], o: [I16F16; 3], d: &FixedDir, s: I16F16) -> Option<[i64; 3]> {
+    let g = (d.e as i32).checked_neg().filter(|g| (1..=30).contains(g))? as u32;
+    let (mut hi, mut lo) = ([0i64; 3], [0i64; 3]);
+    for i in 0..3 {
+        (hi[i], lo[i]) = split_at_g(o[i].to_bits(), d.m[i], s.to_bits() as i64, g, d.o_lo[i] as i64)?;
+    }
+    // Each part through the rows' exact sums, then added at 2^-30.
+    let (a, b) = (
+        FixedDir::exact_rows(rows, hi, true, -16),
+        FixedDir::exact_rows(rows, lo, false, -16 - g as i32),
+    );
+    Some(core::array::from_fn(|j| {
+        at30(a.m[j], a.e as i32) + at30(b.m[j], b.e as i32)
+    }))
+}
+
+/// [`exact_cells`]' surfaces: a flat face (the hit's normal along one axis,
+/// the point exactly on it), the unit sphere, the cylinder's side, the cone's side.
+pub(crate) const FLAT: u8 = 0;
+/// See [`FLAT`].
+pub(crate) const ROUND: u8 = 1;
+
+/// The checker's cells of a hit whose point lies close to a border
+/// (`Kernels::exact_cells`), summed over the three axes, from the exact ray:
+/// `q`, the object-space point of `o + s d` at 2^-30 (not rounded to
+/// Q16.16: 2^-17 a component decided a border 6e-6 away the wrong way, seeds
+/// 16044, 21213, 22268), taken onto the surface along the exact local
+/// direction `D` by one Newton step, `q − (f(q) / 2) D / (n · D)`, with `f`
+/// the surface's implicit function (`surface`: [`FLAT`], [`ROUND`] for the
+/// sphere, [`CYLINDER`], [`CONE`]; exact at 2^-60, or `n · (q − p)` on a
+/// flat face) and `n` the hit's normal, half of f's gradient there. `q` lies
+/// within the rounded t's error (2^-12 or so) of the surface, so the step's
+/// own error is its square. A flat face's own axis keeps the hit's exact
+/// coordinate. `None` (the rounded decision stands) where the point is not
+/// near the surface or beyond the scales.
+#[cold]
+#[inline(never)]
+pub(crate) fn exact_cells(
+    rows: &[FixedRow; 3],
+    o: [I16F16; 3],
+    d: &FixedDir,
+    s: I16F16,
+    (p, n): ([I16F16; 3], [I16F16; 3]),
+    surface: u8,
+    (side, scale): (I16F16, I16F16),
+) -> Option<i64> {
+    let q = fine_point(rows, o, d, s)?;
+    let dir = local_dir(rows, d)?.map(|x| x >> 11);
+    let nb = n.map(|x| x.to_bits() as i64);
+    // D to 20 bits; n · D at 2^-16 of D's scale (below 2^39).
+    let slope = nb[0] * dir[0] + nb[1] * dir[1] + nb[2] * dir[2];
+    // f / 2 at 2^-46.
+    let half_f = if surface == FLAT {
+        (0..3).fold(0i64, |acc, i| acc + nb[i] * (q[i] - ((p[i].to_bits() as i64) << 14)))
+    } else {
+        if q.iter().any(|x| x.unsigned_abs() >= 1 << 31) {
+            return None;
+        }
+        // Exact modulo 2^64, and f itself is small: wrapping sums.
+        let sq = |x: i64| mul_once(x, x);
+        let f = sq(q[0]).wrapping_add(sq(q[2])).wrapping_sub(match surface {
+            ROUND => (1i64 << 60).wrapping_sub(sq(q[1])),
+            CYLINDER => 1 << 60,
+            _ => sq((1 << 30) - q[1]) >> 2,
+        });
+        shr_round_call(f, 15)
+    };
+    // Up to 2^-6 from the surface (the step's product below 2^60).
+    if slope == 0 || half_f.unsigned_abs() >= 1 << 40 {
+        return None;
+    }
+    let b = 32 - side.to_bits().leading_zeros();
+    let mut sum = 0;
+    for j in 0..3 {
+        sum += if surface == FLAT && nb[j] != 0 {
+            // `Kernels::checker_cell` of the face's exact coordinate.
+            mul_i32(p[j].to_bits(), scale.to_bits()) >> (29 + b)
+        } else {
+            let x = q[j] - div_round_i64(half_f * dir[j], slope);
+            // floor(x m / 2^(43 + b)), x cut to 32 bits first (a far plane's).
+            let k = bits_u64(x.unsigned_abs()).saturating_sub(32);
+            mul_once(x >> k, scale.to_bits() as i64) >> (43 + b - k)
+        };
+    }
+    Some(sum)
 }
 
 /// One axis of `o 2^g + m s` (with `o`'s bits below Q16.16, `o_lo` at

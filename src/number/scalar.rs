@@ -113,6 +113,15 @@ mod kernels {
         /// fraction in [0, 1) (the bits below the cell index; box-filtered checkers).
         fn checker_pos(x: Self, side: Self, scale: Self) -> (i64, Self);
 
+        /// [`Kernels::checker_cell`], and whether `x` may lie on the other side
+        /// of a border than the exact hit (within 2⁻¹⁰ object units of one:
+        /// Q16.16's rounded point; never for f32, whose images stay as they
+        /// were). `on_face`: `x` is a flat face's own coordinate (the hit's
+        /// normal along this axis), exact: never in doubt.
+        fn checker_near(x: Self, side: Self, scale: Self, _on_face: bool) -> (i64, bool) {
+            (Self::checker_cell(x, side, scale), false)
+        }
+
         /// One row of an affine matrix, stored more precisely than `Self`
         /// (Q16.16 keeps up to 30 fraction bits; see `Kernels::row_from_f64`).
         type Row: Copy + core::fmt::Debug + Send + Sync;
@@ -238,6 +247,25 @@ mod kernels {
             _rim: Option<[Self; 3]>,
             _solid: u8,
         ) -> Option<([Self; 3], crate::number::q16::Decided)> {
+            None
+        }
+
+        /// The sum of the checker's cells over the three axes of a hit
+        /// (object-space point and normal `hit`) on the `surface`
+        /// (`q16::FLAT`, `ROUND`, `CYLINDER`, `CONE`) of the world ray
+        /// `o + s d`, from the exact ray (`q16::exact_cells`): where
+        /// [`Kernels::checker_near`] finds a border close. `None` where the
+        /// type has no such kernel (f32) or the scales do not fit.
+        #[allow(clippy::too_many_arguments)]
+        fn exact_cells(
+            _rows: &[Self::Row; 3],
+            _o: [Self; 3],
+            _d: &Self::Dir,
+            _s: Self,
+            _hit: ([Self; 3], [Self; 3]),
+            _surface: u8,
+            _checker: (Self, Self),
+        ) -> Option<i64> {
             None
         }
 

@@ -149,7 +149,11 @@ impl<S: Scalar> Scene<S> {
         };
         let (ka, kd) = if let Some(f) = filtered {
             (m.ka * f, m.kd * f)
-        } else if obj.in_dark_square(&hit) {
+        } else if if self.checker_retakes() {
+            obj.in_dark_square_of(&hit, o, &precise)
+        } else {
+            obj.in_dark_square(&hit)
+        } {
             let q = S::from_q15(8192);
             (m.ka * q, m.kd * q)
         } else {

@@ -544,6 +544,59 @@ impl<S: Scalar> Object<S> {
         sum & 1 == 1
     }
 
+    /// [`Object::in_dark_square`] for a hit of the world ray `o + t d` (`d`
+    /// held precisely): where the rounded point lies within 2⁻¹⁰ (object
+    /// units) of a border, the type may take the cells again from the exact
+    /// ray (`Kernels::exact_cells`; Q16.16's point, rounded to 2⁻¹⁶ a
+    /// component after a re-origin and a transform, decided borders 6e-6
+    /// away the wrong way: seeds 16044, 21213, 22268).
+    pub fn in_dark_square_of(&self, hit: &Hit<S>, o: Vec3<S>, d: &S::Dir) -> bool {
+        if self.inv_texture == S::ZERO {
+            return false;
+        }
+        let (p, n) = (hit.local.p, hit.local.n);
+        let (side, k) = (self.texture, self.inv_texture);
+        // A flat face's own axis (the normal along it) holds the face's exact
+        // coordinate, never in doubt; a curved surface's point is in doubt
+        // on every axis (as [`Object::exact_cells`] sorts them).
+        let flat = match self.shape {
+            Shape::Sphere => false,
+            Shape::Cylinder | Shape::Cone => n.x == S::ZERO && n.z == S::ZERO,
+            _ => true,
+        };
+        let cell = |x: S, nx: S| S::checker_near(x, side, k, flat && nx != S::ZERO);
+        let (a, b, c) = (cell(p.x, n.x), cell(p.y, n.y), cell(p.z, n.z));
+        let mut sum = a.0 + b.0 + c.0;
+        // Never with the feature `no-checker-retake` (the micro:bit's flash).
+        if !cfg!(feature = "no-checker-retake") && (a.1 || b.1 || c.1) {
+            sum = self.exact_cells(hit, o, d).unwrap_or(sum);
+        }
+        sum & 1 == 1
+    }
+
+    /// [`Object::in_dark_square_of`] for a hit of [`Object::intersect`]'s ray
+    /// `o + t d` (`d` as rounded: the property test's).
+    pub fn in_dark_square_along(&self, hit: &Hit<S>, o: Vec3<S>, d: Vec3<S>) -> bool {
+        self.in_dark_square_of(hit, o, &S::dir_from(d.to_array()))
+    }
+
+    /// [`Object::in_dark_square_of`]'s retake (cold: a few hits a frame).
+    #[cold]
+    #[inline(never)]
+    fn exact_cells(&self, hit: &Hit<S>, o: Vec3<S>, d: &S::Dir) -> Option<i64> {
+        use crate::number::{CONE, CYLINDER, FLAT, ROUND};
+        let n = hit.local.n;
+        let side_of = |code| if n.x == S::ZERO && n.z == S::ZERO { FLAT } else { code };
+        let surface = match self.shape {
+            Shape::Sphere => ROUND,
+            Shape::Cylinder => side_of(CYLINDER),
+            Shape::Cone => side_of(CONE),
+            _ => FLAT,
+        };
+        self.to_object
+            .exact_cells(o, d, hit.t, (hit.local.p, n), surface, (self.texture, self.inv_texture))
+    }
+
     /// The checker's darkening (1 on a light square, 1/4 on a dark one)
     /// averaged over a lens ray's footprint: a disc of radius `w` world units
     /// across the ray (unit `d`) projected along it onto the surface, whose
@@ -653,6 +706,9 @@ pub struct Scene<S: Scalar> {
     pub(crate) objects: heapless::Vec<Object<S>, MAX_OBJECTS>,
     /// The point lights, in file order (see [`Scene::lights`]).
     pub(crate) lights: heapless::Vec<Light<S>, MAX_LIGHTS>,
+    /// Whether a checker hit near a border retakes its cells from the exact
+    /// ray (fix 16; see [`Scene::set_checker_retake`]). Not baked, not parsed.
+    pub(crate) checker_retake: bool,
 }
 
 impl<S: Scalar> Scene<S> {
@@ -670,6 +726,24 @@ impl<S: Scalar> Scene<S> {
     pub fn truncate_lights(&mut self, n: usize) {
         self.lights.truncate(n);
     }
+
+    /// Whether a Q16.16 hit within 2⁻¹⁰ of a checker border takes its cells
+    /// again from the exact ray ([`Object::in_dark_square_of`], fix 16): on
+    /// by default; off, every hit keeps its rounded point's cells
+    /// ([`Object::in_dark_square`]), as a build with the feature
+    /// `no-checker-retake` (the micro:bit's) always does. For the host to
+    /// render as the micro:bit does (its firmware test); f32 never retakes.
+    #[doc(hidden)]
+    pub fn set_checker_retake(&mut self, on: bool) {
+        self.checker_retake = on;
+    }
+
+    /// Whether checker hits near a border are retaken: the switch, and
+    /// never with the feature `no-checker-retake`.
+    #[inline(always)]
+    pub(crate) fn checker_retakes(&self) -> bool {
+        !cfg!(feature = "no-checker-retake") && self.checker_retake
+    }
 }
 
 impl<S: Scalar> Default for Scene<S> {
@@ -681,6 +755,7 @@ impl<S: Scalar> Default for Scene<S> {
             background: Vec3::ZERO,
             shadows: false,
             objects: heapless::Vec::new(),
+            checker_retake: true,
             lights: heapless::Vec::new(),
         }
     }
