@@ -268,12 +268,13 @@ pub(crate) fn exact_cells(
     for j in 0..3 {
         sum += if surface == FLAT && nb[j] != 0 {
             // `Kernels::checker_cell` of the face's exact coordinate.
-            mul_i32(p[j].to_bits(), scale.to_bits()) >> (29 + b)
+            mul_i32(p[j].to_bits(), scale.to_bits()) >> (29 + b).min(63)
         } else {
             let x = q[j] - div_round_i64(half_f * dir[j], slope);
-            // floor(x m / 2^(43 + b)), x cut to 32 bits first (a far plane's).
+            // floor(x m / 2^(43 + b)), x cut to 32 bits first (a far plane's);
+            // a shift past 63 floors to 0 or -1 (a large side, seed-free: the baked test's).
             let k = bits_u64(x.unsigned_abs()).saturating_sub(32);
-            mul_once(x >> k, scale.to_bits() as i64) >> (43 + b - k)
+            mul_once(x >> k, scale.to_bits() as i64) >> (43 + b - k).min(63)
         };
     }
     Some(sum)
