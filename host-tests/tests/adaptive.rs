@@ -231,6 +231,80 @@ fn a_bright_plane_is_a_lamp_only_lit_from_the_lens_side() {
     }
 }
 
+/// The brightest lamp's bound, rounded up, is what the scanline filter's
+/// lamp gate scales by: ambient plus every light at full diffuse and
+/// specular strength, in its brightest channel, over random materials and
+/// lights (recomputed here in f64), 0 with no lamp.
+#[test]
+fn the_lamp_gate_is_the_brightest_lamps_bound_rounded_up() {
+    let mut next = {
+        let mut x = 0x1a3f_u64;
+        move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        }
+    };
+    let (mut lamps, mut none) = (0, 0);
+    for _ in 0..200 {
+        let amb = [next(), next(), next()];
+        let lights: Vec<[f64; 3]> = (0..1 + (next() * 4.0) as usize)
+            .map(|_| [next() * 2.0, next() * 2.0, next() * 2.0])
+            .collect();
+        let mut text = format!("radius 0.5\npoint 64\nambient_light {} {} {}\n", amb[0], amb[1], amb[2]);
+        for (i, l) in lights.iter().enumerate() {
+            text += &format!(
+                "light_position {} 5 {}\nlight_intensity {} {} {}\n",
+                i,
+                -(i as f64),
+                l[0],
+                l[1],
+                l[2]
+            );
+        }
+        let mut want: f64 = 0.0;
+        for i in 0..3 {
+            let m: [[f64; 3]; 3] = core::array::from_fn(|_| [next(), next(), next()]);
+            text += &format!(
+                "object sphere\nKa {} {} {}\nKd {} {} {}\nKs {} {} {}\ntranslate {} 0 -10\n",
+                m[0][0],
+                m[0][1],
+                m[0][2],
+                m[1][0],
+                m[1][1],
+                m[1][2],
+                m[2][0],
+                m[2][1],
+                m[2][2],
+                3 * i
+            );
+            // The library holds the values in Q16.16: bound them from what it holds.
+            let scene = Scene::<I16F16>::parse(&text).unwrap();
+            let (o, amb_q) = (&scene.objects()[i].material, scene.ambient.to_f64());
+            let (ka, kd, ks) = (o.ka.to_f64(), o.kd.to_f64(), o.ks.to_f64());
+            let b = (0..3)
+                .map(|k| {
+                    ka[k] * amb_q[k]
+                        + (kd[k] + ks[k]) * scene.lights().iter().map(|l| l.intensity.to_f64()[k]).sum::<f64>()
+                })
+                .fold(0.0, f64::max);
+            if b > lensray::unstable::render::footprint::BRIGHT {
+                want = want.max(b.ceil());
+            }
+        }
+        let scene = Scene::<I16F16>::parse(&text).unwrap();
+        let got = Renderer::new(&scene, 16, 12).bright_footprints().lamp();
+        assert_eq!(got as f64, want, "{text}");
+        if got == 0 {
+            none += 1;
+        } else {
+            lamps += 1;
+        }
+    }
+    assert!(lamps > 20 && none > 20, "{lamps} frames with lamps, {none} without");
+}
+
 #[test]
 fn samples_that_agree_stop_after_the_pilot_and_others_go_on() {
     assert_eq!(adaptive_pilot(70), ADAPTIVE_PILOT);

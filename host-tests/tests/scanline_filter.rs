@@ -2,7 +2,9 @@
 //! differs from the pixel rendered alone only where it, both its neighbours
 //! and every ray they cast see what is spread over at least
 //! `FAR_COC_PIXELS` (circles of confusion recomputed here in f64 from each
-//! ray's own hit) and their rays all met lamps or all met none, and then it
+//! ray's own hit) and their rays all met lamps or all met none (a pixel
+//! whose rays met both counts as meeting none where every lamp it met is
+//! spread over the brightest lamp's bound times the gate), and then it
 //! is exactly (1, 2, 1)/4 of the three, or (1, 4, 6, 4, 1)/16 of five where
 //! it and its four neighbours see only what is spread over twice that; never
 //! with `sampler independent` or `adaptive off`; the progressive passes end
@@ -16,8 +18,18 @@ use lensray::{progressive, CameraSample, Renderer, Scalar, Scene, I16F16};
 
 /// The smallest circle of confusion, in pixels, over the hits of the rays
 /// pixel (`col`, `row`) casts (a miss: a point at infinity), and what they
-/// met: bit 0 a lamp (a bright object), bit 1 anything else.
+/// met: bit 0 a lamp (a bright object), bit 1 anything else; a pixel that
+/// met both is 2 where every lamp's hit is spread over the brightest lamp's
+/// bound times the gate, 3 where one is not, and 4 within 2 % of it (either
+/// may hold: Q16.16's depths against f64's).
 fn smallest_coc<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row: u32) -> (f64, u8) {
+    let (coc, met, _) = coc_and_lamps(r, scene, col, row);
+    (coc, met)
+}
+
+/// [`smallest_coc`], and whether the pixel met a lamp and something else
+/// and is class 2 by the lamp's gate (a rim the filter may mix across).
+fn coc_and_lamps<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row: u32) -> (f64, u8, bool) {
     let cam = &scene.camera;
     let z_f = cam.focus_depth();
     let n = lensray::unstable::camera::basis(cam).unwrap()[2];
@@ -26,7 +38,7 @@ fn smallest_coc<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row:
     let camera = r.camera();
     let film = camera.film_point(col, row);
     let mut lens = PixelSamples::new(r.sampler(), col, row);
-    let (mut coc, mut met) = (f64::INFINITY, 0);
+    let (mut coc, mut met, mut lamp_coc) = (f64::INFINITY, 0, f64::INFINITY);
     for _ in 0..count {
         let ray = camera.generate_ray(&CameraSample {
             film: &film,
@@ -34,14 +46,15 @@ fn smallest_coc<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row:
         });
         let c = match scene.closest_hit_camera_ray(&ray, r.cones()) {
             Some((i, hit)) => {
-                met |= if r.bright_footprints().is_bright(i) { 1 } else { 2 };
+                let lamp = r.bright_footprints().is_bright(i);
+                met |= if lamp { 1 } else { 2 };
                 let d = ray.dir.to_array().map(|x| x.to_f64());
                 let z = -hit.t.to_f64() * (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]);
-                if z > 0.0 {
-                    k * (1.0 - z_f / z).abs()
-                } else {
-                    0.0
+                let c = if z > 0.0 { k * (1.0 - z_f / z).abs() } else { 0.0 };
+                if lamp {
+                    lamp_coc = lamp_coc.min(c);
                 }
+                c
             }
             None => {
                 met |= 2;
@@ -50,7 +63,18 @@ fn smallest_coc<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row:
         };
         coc = coc.min(c);
     }
-    (coc, met)
+    let both = met == 3;
+    if both {
+        let gate = FAR_COC_PIXELS * r.bright_footprints().lamp() as f64;
+        met = if lamp_coc >= 1.02 * gate {
+            2
+        } else if lamp_coc < 0.98 * gate {
+            3
+        } else {
+            4
+        };
+    }
+    (coc, met, both && met == 2)
 }
 
 fn mix5(p: &[Rgb888]) -> Rgb888 {
@@ -78,6 +102,13 @@ fn check<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, label: &str) -> (u32, u32)
         let info: Vec<(f64, u8)> = (0..w).map(|c| smallest_coc(&r, scene, c, row)).collect();
         let wide_coc = WIDE_COC_FACTOR as f64 * FAR_COC_PIXELS;
         for c in 0..w as usize {
+            // A lamp's hit within the slack of its gate: either class may hold.
+            if info[c.saturating_sub(2)..(c + 3).min(w as usize)]
+                .iter()
+                .any(|x| x.1 == 4)
+            {
+                continue;
+            }
             // Five alike, all spread over twice the gate: the 5-tap (2 % of slack as below).
             if c > 1 && c + 2 < w as usize {
                 let five = &info[c - 2..=c + 2];
@@ -159,6 +190,58 @@ fn the_filter_acts_only_where_everything_is_far_out_of_focus() {
         }
     }
     assert!(filtered > 1000 && held > 1000, "{filtered} filtered, {held} held back");
+}
+
+/// Pixels whose rays met a lamp and something else, and of them those the
+/// row mixed, over every row of `scene` at `w`×`h` (after [`check`]'s checks).
+fn rims<S: Scalar>(scene: &Scene<S>, w: u32, h: u32) -> (u32, u32) {
+    let r = Renderer::new(scene, w, h);
+    let (mut both, mut mixed) = (0, 0);
+    for row in 0..h {
+        let mut out = vec![Rgb888::BLACK; w as usize];
+        r.render_row(row, &mut out);
+        for c in 0..w {
+            let (_, met, converted) = coc_and_lamps(&r, scene, c, row);
+            if met == 3 || converted {
+                both += 1;
+                mixed += (out[c as usize] != r.pixel(c, row)) as u32;
+            }
+        }
+    }
+    (both, mixed)
+}
+
+/// A lamp (a sphere lit to about 7 times white) far behind a dim sphere,
+/// both far out of focus: pixels that see both through the lens are mixed
+/// where the lamp is spread over 7 times the gate, and never where a
+/// brighter light puts the lamp's gate past its blur (the rim stays sharp).
+#[test]
+fn a_lamp_far_enough_out_of_focus_is_mixed_across_its_rim() {
+    for (intensity, mixes) in [(3.0, true), (40.0, false)] {
+        let text = format!(
+            "point 40\nradius 1.5\nfocal_length 4\nimage_distance 8\nwidth 2\n\
+             light_position 0 0 10\nlight_intensity {intensity} {intensity} {intensity}\nambient_light 0.2 0.2 0.2\n\
+             object sphere\nKa 0.2 0.2 0.2\nKd 1 1 1\nKs 1 1 1\nscale 40 40 40\ntranslate 30 0 -200\n\
+             object sphere\nKa 0.3 0.3 0.3\nKd 0.05 0.05 0.05\nKs 0 0 0\nscale 12 12 12\ntranslate -8 0 -60\n"
+        );
+        let q = Scene::<I16F16>::parse(&text).unwrap();
+        let f = Scene::<f32>::parse(&text).unwrap();
+        let lamp = Renderer::new(&q, 48, 36).bright_footprints().lamp();
+        assert!(lamp > 4, "intensity {intensity}: the far sphere is a lamp ({lamp})");
+        check(&q, 48, 36, &format!("intensity {intensity} Q16.16"));
+        check(&f, 48, 36, &format!("intensity {intensity} f32"));
+        for (both, mixed) in [rims(&q, 48, 36), rims(&f, 48, 36)] {
+            assert!(
+                both > 50,
+                "intensity {intensity}: {both} pixels see the lamp and the sphere"
+            );
+            if mixes {
+                assert!(mixed > both / 4, "intensity {intensity}: {mixed} of {both} mixed");
+            } else {
+                assert_eq!(mixed, 0, "intensity {intensity}: rims mixed");
+            }
+        }
+    }
 }
 
 /// A sphere in focus before a wall far out of focus: every pixel whose rays

@@ -50,6 +50,11 @@ pub struct BrightFootprints {
     everywhere: bool,
     /// Bit i: object i is bright (see the scanline filter, [`crate::render::scanline`]).
     objects: u32,
+    /// The brightest bright object's bound, in times white, rounded up (at
+    /// most `u16::MAX`; 0 with none): how much farther out of focus than
+    /// anything else a lamp must be for the scanline filter to mix across
+    /// its bokeh's rim ([`crate::render::scanline`]).
+    lamp: u16,
 }
 
 /// Coordinates are clamped here (half pixels): far beyond any image side.
@@ -63,6 +68,7 @@ impl BrightFootprints {
             spots: heapless::Vec::new(),
             everywhere: false,
             objects: 0,
+            lamp: 0,
         };
         let cam = &scene.camera;
         let a = cam.radius;
@@ -103,6 +109,13 @@ impl BrightFootprints {
                 .fold(0.0, f64::max);
             if brightest.is_nan() || brightest > BRIGHT {
                 out.objects |= 1u32.checked_shl(i as u32).unwrap_or(0);
+                // NaN and anything past u16 saturate: the filter never mixes across such a rim.
+                let up = if brightest.is_nan() {
+                    f64::INFINITY
+                } else {
+                    libm::ceil(brightest)
+                };
+                out.lamp = out.lamp.max(up.min(u16::MAX as f64) as u16);
                 let Some((centre, rho)) = obj.bound() else {
                     // A bright plane is everywhere.
                     out.everywhere = true;
@@ -146,6 +159,12 @@ impl BrightFootprints {
             let (dc, dr) = (c - s.col2 as i64, r - s.row2 as i64);
             dc * dc + dr * dr <= s.radius2 as i64 * s.radius2 as i64
         })
+    }
+
+    /// The brightest lamp's bound in times white, rounded up (0 with no lamp).
+    #[inline]
+    pub fn lamp(&self) -> u16 {
+        self.lamp
     }
 
     /// Whether object `i` is bright (a lamp: its brightest colour exceeds [`BRIGHT`]).
@@ -203,7 +222,8 @@ impl crate::bytes::Field for BrightFootprints {
     crate::bytes::baked_fields!(BrightFootprints {
         spots,
         everywhere,
-        objects
+        objects,
+        lamp
     });
 }
 

@@ -672,6 +672,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut far = self.filters();
         // And while every ray met something twice as far out of focus (the 5-tap).
         let mut wide = far;
+        // And while every lamp's ray met it spread over its brightness times the gate.
+        let mut lamp_far = far;
         let mut lamps = 0u8;
         let mut stratum = self.defocus.stratum(check.min(full));
         while n < limit {
@@ -686,7 +688,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             if far {
                 far = match t {
                     Some((i, t)) => {
-                        lamps |= if self.bright.is_bright(i) { 1 } else { 2 };
+                        lamps |= if self.bright.is_bright(i) {
+                            lamp_far &= self.defocus.lamp_far_hit(ray.dir, t, self.bright.lamp());
+                            1
+                        } else {
+                            2
+                        };
                         let (f, w) = self.defocus.far_hits(ray.dir, t);
                         wide &= w;
                         f
@@ -736,7 +743,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             }
         }
         let colour = Vec3::new(S::acc_mean(acc[0], n), S::acc_mean(acc[1], n), S::acc_mean(acc[2], n));
-        // A pixel that saw a lamp through part of the lens is on its bokeh's rim: never filtered.
+        // A pixel that saw a lamp through part of the lens is on its bokeh's rim:
+        // filtered only where every lamp it met is spread over its brightness
+        // times the gate (the rim then changes no faster than an object's edge
+        // at the gate), and then with anything of the same blur.
+        let lamps = if lamps == 3 && lamp_far { 2 } else { lamps };
         let class = if far && lamps != 3 {
             lamps | if wide { scanline::WIDE } else { 0 }
         } else {

@@ -19,7 +19,16 @@
 //! bound above is a share of the contrast, and a lamp's bokeh, clamped to
 //! white, has a sharp rim however blurred. So a pixel is filtered only with
 //! neighbours whose rays all met lamps as its own did, or all met none; one
-//! whose rays met a lamp and something else is on a rim and never filtered.
+//! whose rays met a lamp and something else is on a rim and not filtered,
+//! unless every lamp it met is spread over B times the gate, B the
+//! brightest lamp's bound in times white
+//! ([`crate::render::footprint::BrightFootprints::lamp`]): the picture's
+//! change from one pixel to the next is at most its brightest radiance over
+//! the blur, so there a rim changes no faster than the edge of an object no
+//! brighter than white at the gate, and the pixel counts as meeting none.
+//! (Classing a lamp's ray by its own colour instead, a lamp only above
+//! white, lost up to 4 dB: a pixel whose few rays missed a lamp's hot part
+//! was then mixed across the rim its converged value has.)
 //!
 //! Where the five pixels around one all see only what is spread over twice
 //! that ([`WIDE_COC_FACTOR`]), (1, 4, 6, 4, 1)/16 of them: 73 % of the
@@ -105,6 +114,15 @@ impl<S: Scalar> Defocus<S> {
         let spread = self.far.mul(u.sub(S::ONE).abs());
         let pos = u > S::ZERO;
         (pos && spread > u, pos && spread > u.mul(S::from_i32(WIDE_COC_FACTOR)))
+    }
+
+    /// Whether the point at distance `t` along unit `d` is spread over
+    /// `lamp` times [`FAR_COC_PIXELS`] or more: a lamp's hit that may be
+    /// mixed across its bokeh's rim (`lamp` its bound in times white; 0 never).
+    #[inline]
+    pub fn lamp_far_hit(&self, d: Vec3<S>, t: S, lamp: u16) -> bool {
+        let u = self.depth_ratio(d, t);
+        lamp != 0 && u > S::ZERO && self.far.mul(u.sub(S::ONE).abs()) > u.mul(S::from_i32(lamp as i32))
     }
 
     /// Whether a miss is spread over [`WIDE_COC_FACTOR`] times [`FAR_COC_PIXELS`].
