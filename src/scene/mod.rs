@@ -584,17 +584,38 @@ impl<S: Scalar> Object<S> {
     #[cold]
     #[inline(never)]
     fn exact_cells(&self, hit: &Hit<S>, o: Vec3<S>, d: &S::Dir) -> Option<i64> {
+        self.to_object.exact_cells(
+            o,
+            d,
+            hit.t,
+            (hit.local.p, hit.local.n),
+            self.surface(hit),
+            (self.texture, self.inv_texture),
+        )
+    }
+
+    /// The surface a hit lies on, for the exact kernels (`q16::FLAT`,
+    /// `ROUND`, `CYLINDER`, `CONE`): a side's normal has an x or z part, a
+    /// cap's, a cube's face's and the plane's are flat.
+    fn surface(&self, hit: &Hit<S>) -> u8 {
         use crate::number::{CONE, CYLINDER, FLAT, ROUND};
         let n = hit.local.n;
         let side_of = |code| if n.x == S::ZERO && n.z == S::ZERO { FLAT } else { code };
-        let surface = match self.shape {
+        match self.shape {
             Shape::Sphere => ROUND,
             Shape::Cylinder => side_of(CYLINDER),
             Shape::Cone => side_of(CONE),
             _ => FLAT,
-        };
+        }
+    }
+
+    /// A hit's world distance along the world ray `o + t d` (`d` held
+    /// precisely) taken again from the exact ray, at 2^-30 world units
+    /// (`Kernels::exact_t`): `None` where the type has no such kernel
+    /// (f32) or the scales do not fit.
+    pub fn exact_t(&self, hit: &Hit<S>, o: Vec3<S>, d: &S::Dir) -> Option<i64> {
         self.to_object
-            .exact_cells(o, d, hit.t, (hit.local.p, n), surface, (self.texture, self.inv_texture))
+            .exact_t(o, d, hit.t, (hit.local.p, hit.local.n), self.surface(hit))
     }
 
     /// The checker's darkening (1 on a light square, 1/4 on a dark one)
@@ -743,6 +764,12 @@ impl<S: Scalar> Scene<S> {
     #[inline(always)]
     pub(crate) fn checker_retakes(&self) -> bool {
         !cfg!(feature = "no-checker-retake") && self.checker_retake
+    }
+
+    /// Whether two surfaces met at one depth are ordered on their exact t
+    /// (see `Scene::nearer_exact`): as [`Scene::checker_retakes`].
+    pub(crate) fn exact_retakes(&self) -> bool {
+        self.checker_retakes()
     }
 }
 
