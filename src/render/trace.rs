@@ -182,7 +182,7 @@ impl<S: Scalar> Scene<S> {
         };
         let (ka, kd) = if let Some(f) = filtered {
             (m.ka * f, m.kd * f)
-        } else if if self.checker_retakes() {
+        } else if if self.exact_retakes() {
             obj.in_dark_square_of(&hit, o, &precise)
         } else {
             obj.in_dark_square(&hit)
