@@ -39,15 +39,47 @@ impl<S: Scalar> Scene<S> {
         t_min: S,
         cones: Option<&LensCones<S>>,
     ) -> Option<(usize, Hit<S>)> {
+        // The exact order only where it may be taken: the micro:bit's
+        // search (feature `no-exact-retakes`) is the rounded order's alone.
+        #[cfg(not(feature = "no-exact-retakes"))]
+        if S::RECHECK && self.exact_retakes() {
+            return self.closest_hit_ordered(o, d, precise, t_min, cones);
+        }
         let mut best: Option<(usize, Hit<S>)> = None;
-        // Two objects met within this of each other are ordered on their
-        // exact t (Q16.16; `Scene::nearer_exact`); zero keeps the rounded
-        // order (f32, or with the exact retakes off).
-        let window = if S::RECHECK && self.exact_retakes() {
-            S::from_q15(128)
-        } else {
-            S::ZERO
-        };
+        for (i, obj) in self.objects.iter().enumerate() {
+            if let Some(c) = cones {
+                if !c.may_reach(i, d) {
+                    continue;
+                }
+            }
+            let t_max = best.map_or(S::MAX, |(_, h)| h.t);
+            // Cones come with camera rays only: from the eye where the camera is a pinhole.
+            let eye = match cones {
+                Some(c) if obj.shape == Shape::Plane => c.plane_from_eye(i),
+                _ => None,
+            };
+            if let Some(h) = obj.intersect_from(o, d, precise, t_min, t_max, eye) {
+                best = Some((i, h));
+            }
+        }
+        best
+    }
+
+    /// [`Scene::closest_hit_culled`] with the exact order (Q16.16, the
+    /// exact retakes on): an object met within 2⁻⁸ of the nearest hit so
+    /// far is ordered against it on both hits' t taken again from the exact
+    /// ray (`Scene::nearer_exact`), else on the rounded t.
+    #[cfg(not(feature = "no-exact-retakes"))]
+    fn closest_hit_ordered(
+        &self,
+        o: Vec3<S>,
+        d: Vec3<S>,
+        precise: S::Dir,
+        t_min: S,
+        cones: Option<&LensCones<S>>,
+    ) -> Option<(usize, Hit<S>)> {
+        let mut best: Option<(usize, Hit<S>)> = None;
+        let window = S::from_q15(128);
         for (i, obj) in self.objects.iter().enumerate() {
             if let Some(c) = cones {
                 if !c.may_reach(i, d) {
@@ -61,14 +93,13 @@ impl<S: Scalar> Scene<S> {
                 _ => None,
             };
             if let Some(h) = obj.intersect_from(o, d, precise, t_min, t_max, eye) {
-                let nearer = match best {
-                    Some((j, b)) if h.t.add(window) > b.t && window > S::ZERO => {
-                        self.nearer_exact((i, &h), (j, &b), o, &precise)
+                match best {
+                    Some((j, b)) if h.t.add(window) > b.t => {
+                        if self.nearer_exact((i, &h), (j, &b), o, &precise) {
+                            best = Some((i, h));
+                        }
                     }
-                    _ => true,
-                };
-                if nearer {
-                    best = Some((i, h));
+                    _ => best = Some((i, h)),
                 }
             }
         }
@@ -82,6 +113,7 @@ impl<S: Scalar> Scene<S> {
     /// rounded to 2⁻¹⁶ and ordered the other way than float64), else on
     /// the rounded t as before. Cold: the few rays a frame where two
     /// surfaces meet.
+    #[cfg(not(feature = "no-exact-retakes"))]
     #[cold]
     #[inline(never)]
     fn nearer_exact(&self, a: (usize, &Hit<S>), b: (usize, &Hit<S>), o: Vec3<S>, d: &S::Dir) -> bool {
