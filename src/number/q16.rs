@@ -289,11 +289,13 @@ fn half_f(q: [i64; 3], p: [I16F16; 3], nb: [i64; 3], surface: u8) -> Option<i64>
 /// few Q16.16 steps of each other along a camera ray (a cube's face and a
 /// plane, a sphere through a cube: seeds 9206, 13193, 17035) are ordered on
 /// it, not on t rounded to 2^-16. As in [`exact_cells`], `q` is the exact
-/// object-space point of `o + s d` (at 2^-30) and one Newton step along the
-/// exact local direction `D` (local units a world unit, from the rows and
-/// `d`'s own scale) takes it onto the surface: `s − (f(q) / 2) / (n · D)`.
-/// `None` (the rounded order stands) where the point is not near the
-/// surface, the ray runs along it, or the scales do not fit.
+/// object-space point of `o + s d` (at 2^-30), and a Newton step along the
+/// exact local direction `D` (local units a world unit, from the rows' and
+/// `d`'s scales) takes its t onto the surface: `s − (f(q) / 2) / (n · D)`,
+/// `n` the half gradient at `q` (a flat face's normal); then a second step
+/// from that t rounded to Q16.16. `None` (the rounded order stands) where
+/// the point is not near the surface, the ray runs along it, or the scales
+/// do not fit.
 #[cold]
 #[inline(never)]
 pub(crate) fn exact_t(
@@ -349,8 +351,9 @@ pub(crate) fn exact_t(
             }
             div_round_i64(half_f << up, slope)
         } else {
+            // The slope below 2^43: up to 19 bits of room.
             let down = (-sh) as u32;
-            if down > 20 {
+            if down > 19 {
                 return None;
             }
             div_round_i64(half_f, slope << down)
