@@ -86,7 +86,10 @@ impl<S: Scalar> Scene<S> {
                     continue;
                 }
             }
-            let t_max = best.map_or(S::MAX, |(_, h)| h.t.add(window));
+            let t_max = match best {
+                Some((_, h)) => h.t.add(window),
+                None => S::MAX,
+            };
             // Cones come with camera rays only: from the eye where the camera is a pinhole.
             let eye = match cones {
                 Some(c) if obj.shape == Shape::Plane => c.plane_from_eye(i),
