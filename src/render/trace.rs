@@ -30,7 +30,11 @@ impl<S: Scalar> Scene<S> {
     }
 
     /// As [`Scene::closest_hit_dir`], skipping the objects a ray from the
-    /// lens cannot reach where `cones` is given.
+    /// lens cannot reach where `cones` is given. The micro:bit's (feature
+    /// `no-exact-retakes`): the rounded order alone, the search as before
+    /// fix 17 (the other's loop with its switch constant false still cost
+    /// it 67 instructions a pixel and 76 bytes).
+    #[cfg(feature = "no-exact-retakes")]
     fn closest_hit_culled(
         &self,
         o: Vec3<S>,
@@ -39,12 +43,6 @@ impl<S: Scalar> Scene<S> {
         t_min: S,
         cones: Option<&LensCones<S>>,
     ) -> Option<(usize, Hit<S>)> {
-        // The exact order only where it may be taken: the micro:bit's
-        // search (feature `no-exact-retakes`) is the rounded order's alone.
-        #[cfg(not(feature = "no-exact-retakes"))]
-        if S::RECHECK && self.exact_retakes() {
-            return self.closest_hit_ordered(o, d, precise, t_min, cones);
-        }
         let mut best: Option<(usize, Hit<S>)> = None;
         for (i, obj) in self.objects.iter().enumerate() {
             if let Some(c) = cones {
@@ -65,12 +63,14 @@ impl<S: Scalar> Scene<S> {
         best
     }
 
-    /// [`Scene::closest_hit_culled`] with the exact order (Q16.16, the
-    /// exact retakes on): an object met within 2⁻⁸ of the nearest hit so
-    /// far is ordered against it on both hits' t taken again from the exact
-    /// ray (`Scene::nearer_exact`), else on the rounded t.
+    /// As [`Scene::closest_hit_dir`], skipping the objects a ray from the
+    /// lens cannot reach where `cones` is given. With the exact retakes on
+    /// (Q16.16; [`Scene::set_exact_retakes`]) an object met within 2⁻⁸ of
+    /// the nearest hit so far is ordered against it on both hits' t taken
+    /// again from the exact ray (`Scene::nearer_exact`); else (f32, or the
+    /// switch off) on the rounded t.
     #[cfg(not(feature = "no-exact-retakes"))]
-    fn closest_hit_ordered(
+    fn closest_hit_culled(
         &self,
         o: Vec3<S>,
         d: Vec3<S>,
@@ -78,32 +78,35 @@ impl<S: Scalar> Scene<S> {
         t_min: S,
         cones: Option<&LensCones<S>>,
     ) -> Option<(usize, Hit<S>)> {
-        let mut best: Option<(usize, Hit<S>)> = None;
+        let exact = S::RECHECK && self.exact_retakes();
         let window = S::from_q15(128);
+        let mut best: Option<(usize, Hit<S>)> = None;
+        // The search's range, and (exact order) where the window below the
+        // nearest hit so far starts: set when it changes, not per object.
+        let (mut t_max, mut near) = (S::MAX, S::MAX);
         for (i, obj) in self.objects.iter().enumerate() {
             if let Some(c) = cones {
                 if !c.may_reach(i, d) {
                     continue;
                 }
             }
-            let t_max = match best {
-                Some((_, h)) => h.t.add(window),
-                None => S::MAX,
-            };
             // Cones come with camera rays only: from the eye where the camera is a pinhole.
             let eye = match cones {
                 Some(c) if obj.shape == Shape::Plane => c.plane_from_eye(i),
                 _ => None,
             };
             if let Some(h) = obj.intersect_from(o, d, precise, t_min, t_max, eye) {
-                match best {
-                    Some((j, b)) if h.t.add(window) > b.t => {
-                        if self.nearer_exact((i, &h), (j, &b), o, &precise) {
-                            best = Some((i, h));
-                        }
+                if let Some((j, b)) = best {
+                    if exact && h.t > near && !self.nearer_exact((i, &h), (j, &b), o, &precise) {
+                        continue;
                     }
-                    _ => best = Some((i, h)),
                 }
+                best = Some((i, h));
+                (t_max, near) = if exact {
+                    (h.t.add(window), h.t.sub(window))
+                } else {
+                    (h.t, S::MAX)
+                };
             }
         }
         best
