@@ -81,32 +81,29 @@ impl<S: Scalar> Scene<S> {
         let exact = S::RECHECK && self.exact_retakes();
         let window = S::from_q15(128);
         let mut best: Option<(usize, Hit<S>)> = None;
-        // The search's range, and (exact order) where the window below the
-        // nearest hit so far starts: set when it changes, not per object.
-        let (mut t_max, mut near) = (S::MAX, S::MAX);
         for (i, obj) in self.objects.iter().enumerate() {
             if let Some(c) = cones {
                 if !c.may_reach(i, d) {
                     continue;
                 }
             }
+            let t_max = best.map_or(S::MAX, |(_, h)| h.t);
+            // The exact order looks up to the window beyond the nearest so far.
+            let t_max = if exact { t_max.add(window) } else { t_max };
             // Cones come with camera rays only: from the eye where the camera is a pinhole.
             let eye = match cones {
                 Some(c) if obj.shape == Shape::Plane => c.plane_from_eye(i),
                 _ => None,
             };
             if let Some(h) = obj.intersect_from(o, d, precise, t_min, t_max, eye) {
-                if let Some((j, b)) = best {
-                    if exact && h.t > near && !self.nearer_exact((i, &h), (j, &b), o, &precise) {
-                        continue;
+                if exact {
+                    if let Some((j, b)) = best {
+                        if h.t.add(window) > b.t && !self.nearer_exact((i, &h), (j, &b), o, &precise) {
+                            continue;
+                        }
                     }
                 }
                 best = Some((i, h));
-                (t_max, near) = if exact {
-                    (h.t.add(window), h.t.sub(window))
-                } else {
-                    (h.t, S::MAX)
-                };
             }
         }
         best
