@@ -113,7 +113,7 @@ fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
         objects,
         lights,
         // A host-side switch (on when loaded), not part of the bake.
-        checker_retake: _,
+        exact_retake: _,
     } = s;
     ambient.put(w);
     background.put(w);
@@ -294,7 +294,7 @@ impl<S: BakeScalar> Baked<S> {
             shadows,
             objects,
             lights,
-            checker_retake: _,
+            exact_retake: _,
         } = &mut self.scene;
         ambient.take(r);
         background.take(r);

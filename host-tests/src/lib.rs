@@ -39,9 +39,9 @@ pub fn render_image<S: Scalar + Send + Sync>(
 }
 
 /// [`render_image`] before the scanline filter, every pixel as
-/// [`Renderer::pixel`] has it, and without fix 16's checker retake
-/// (`Scene::set_checker_retake(false)`): what the micro:bit's build
-/// (features `no-scanline-filter`, `no-spare-floor` and `no-checker-retake`)
+/// [`Renderer::pixel`] has it, and without fixes 16 and 17's exact retakes
+/// (`Scene::set_exact_retakes(false)`): what the micro:bit's build
+/// (features `no-scanline-filter`, `no-spare-floor` and `no-exact-retakes`)
 /// draws of a frame without a survey (`point` under 10, or too small), such
 /// as its tests' frames.
 pub fn render_image_unfiltered<S: Scalar + Send + Sync>(
@@ -51,7 +51,7 @@ pub fn render_image_unfiltered<S: Scalar + Send + Sync>(
     samples: Option<u32>,
 ) -> Image {
     let mut scene = scene.clone();
-    scene.set_checker_retake(false);
+    scene.set_exact_retakes(false);
     let renderer = Renderer::new_with_samples(&scene, width, height, samples);
     let mut pixels = vec![Rgb888::BLACK; width as usize * height as usize];
     if width > 0 {

@@ -193,8 +193,8 @@ fn checker_border_decisions_agree_with_f64() {
     }
 }
 
-/// The switch the micro:bit's reference render uses (`no-checker-retake` on
-/// the board, `Scene::set_checker_retake(false)` on the host) does take the
+/// The switch the micro:bit's reference render uses (`no-exact-retakes` on
+/// the board, `Scene::set_exact_retakes(false)` on the host) does take the
 /// retake out: seed 16044's checker pixels (fix 16's first scene) differ,
 /// and only through the retake; f32, which never retakes, is unchanged.
 #[test]
@@ -206,7 +206,7 @@ fn the_micro_bit_reference_renders_without_the_retake() {
     let with = lensray_host::render_image(&q16, w, h, None, &|| {});
     let without = lensray_host::render_image_unfiltered(&q16, w, h, None);
     let mut off = q16.clone();
-    off.set_checker_retake(false);
+    off.set_exact_retakes(false);
     let off = lensray_host::render_image(&off, w, h, None, &|| {});
     assert_eq!(without.pixels, off.pixels, "a pinhole frame: nothing to filter");
     let differ = with.pixels.iter().zip(&without.pixels).filter(|(a, b)| a != b).count();

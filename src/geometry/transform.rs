@@ -241,6 +241,20 @@ impl<S: Scalar> Affine<S> {
         )
     }
 
+    /// A hit's world distance retaken from the exact ray, at 2^-30, where
+    /// the type has the kernel (`Kernels::exact_t`).
+    #[inline]
+    pub fn exact_t(&self, o: Vec3<S>, d: &S::Dir, s: S, hit: (Vec3<S>, Vec3<S>), surface: u8) -> Option<i64> {
+        S::exact_t(
+            &self.rows,
+            o.to_array(),
+            d,
+            s,
+            (hit.0.to_array(), hit.1.to_array()),
+            surface,
+        )
+    }
+
     /// One coordinate of a transformed point (`i` in 0..3).
     #[inline]
     pub fn point_coord(&self, i: usize, p: Vec3<S>) -> S {

@@ -554,6 +554,16 @@ impl Kernels for I16F16 {
     ) -> Option<i64> {
         crate::number::q16::exact_cells(rows, o, d, s, hit, surface, checker)
     }
+    fn exact_t(
+        rows: &[FixedRow; 3],
+        o: [Self; 3],
+        d: &FixedDir,
+        s: Self,
+        hit: ([Self; 3], [Self; 3]),
+        surface: u8,
+    ) -> Option<i64> {
+        crate::number::q16::exact_t(rows, o, d, s, hit, surface)
+    }
     #[inline]
     fn acc_zero() -> i64 {
         0

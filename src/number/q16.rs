@@ -243,22 +243,7 @@ pub(crate) fn exact_cells(
     let nb = n.map(|x| x.to_bits() as i64);
     // D to 20 bits; n · D at 2^-16 of D's scale (below 2^39).
     let slope = nb[0] * dir[0] + nb[1] * dir[1] + nb[2] * dir[2];
-    // f / 2 at 2^-46.
-    let half_f = if surface == FLAT {
-        (0..3).fold(0i64, |acc, i| acc + nb[i] * (q[i] - ((p[i].to_bits() as i64) << 14)))
-    } else {
-        if q.iter().any(|x| x.unsigned_abs() >= 1 << 31) {
-            return None;
-        }
-        // Exact modulo 2^64, and f itself is small: wrapping sums.
-        let sq = |x: i64| mul_once(x, x);
-        let f = sq(q[0]).wrapping_add(sq(q[2])).wrapping_sub(match surface {
-            ROUND => (1i64 << 60).wrapping_sub(sq(q[1])),
-            CYLINDER => 1 << 60,
-            _ => sq((1 << 30) - q[1]) >> 2,
-        });
-        shr_round_call(f, 15)
-    };
+    let half_f = half_f(q, p, nb, surface)?;
     // Up to 2^-6 from the surface (the step's product below 2^60).
     if slope == 0 || half_f.unsigned_abs() >= 1 << 40 {
         return None;
@@ -278,6 +263,106 @@ pub(crate) fn exact_cells(
         };
     }
     Some(sum)
+}
+
+/// Half the surface's implicit function at `q` (at 2^-30) at 2^-46 (see
+/// [`exact_cells`]): `n · (q − p)` on a flat face, else `f(q) / 2`.
+fn half_f(q: [i64; 3], p: [I16F16; 3], nb: [i64; 3], surface: u8) -> Option<i64> {
+    Some(if surface == FLAT {
+        (0..3).fold(0i64, |acc, i| acc + nb[i] * (q[i] - ((p[i].to_bits() as i64) << 14)))
+    } else {
+        if q.iter().any(|x| x.unsigned_abs() >= 1 << 31) {
+            return None;
+        }
+        // Exact modulo 2^64, and f itself is small: wrapping sums.
+        let sq = |x: i64| mul_once(x, x);
+        let f = sq(q[0]).wrapping_add(sq(q[2])).wrapping_sub(match surface {
+            ROUND => (1i64 << 60).wrapping_sub(sq(q[1])),
+            CYLINDER => 1 << 60,
+            _ => sq((1 << 30) - q[1]) >> 2,
+        });
+        shr_round_call(f, 15)
+    })
+}
+
+/// A hit's world distance taken again from the exact ray
+/// (`Kernels::exact_t`), at 2^-30 world units: two surfaces met within a
+/// few Q16.16 steps of each other along a camera ray (a cube's face and a
+/// plane, a sphere through a cube: seeds 9206, 13193, 17035) are ordered on
+/// it, not on t rounded to 2^-16. As in [`exact_cells`], `q` is the exact
+/// object-space point of `o + s d` (at 2^-30), and a Newton step along the
+/// exact local direction `D` (local units a world unit, from the rows' and
+/// `d`'s scales) takes its t onto the surface: `s − (f(q) / 2) / (n · D)`,
+/// `n` the half gradient at `q` (a flat face's normal); then a second step
+/// from that t rounded to Q16.16. `None` (the rounded order stands) where
+/// the point is not near the surface, the ray runs along it, or the scales
+/// do not fit.
+#[cold]
+#[inline(never)]
+pub(crate) fn exact_t(
+    rows: &[FixedRow; 3],
+    o: [I16F16; 3],
+    d: &FixedDir,
+    s: I16F16,
+    (p, n): ([I16F16; 3], [I16F16; 3]),
+    surface: u8,
+) -> Option<i64> {
+    // D row by row at the finest rows' scale 2^(e − low), as `local_dir`,
+    // then cut to 24 bits (2^(e − low + k)).
+    let low = rows.iter().map(|r| r.shift).min()?;
+    let mut v = [0i64; 3];
+    for (x, r) in v.iter_mut().zip(rows) {
+        let sum = (0..3).fold(0i64, |acc, k| acc + mul_once(r.m[k] as i64, d.m[k]));
+        *x = sum >> (r.shift - low);
+    }
+    let big = v.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
+    let k = bits_u64(big).saturating_sub(24);
+    let dir = v.map(|x| x >> k);
+    // δ = −half_f / (n · D) at 2^(−46 − (e − low + k − 16)) = 2^(−30 + sh).
+    let sh = low as i32 - d.e as i32 - k as i32;
+    let (mut s, mut t) = (s, 0);
+    // Twice: the second step from the first's t rounded to Q16.16 (a hit
+    // rounded 2e-4 off at grazing kept 5e-7 of the step's own error).
+    for _ in 0..2 {
+        let q = fine_point(rows, o, d, s)?;
+        // The surface's half gradient at q itself (a curved one's), at 2^-16.
+        let nb = if surface == FLAT {
+            n.map(|x| x.to_bits() as i64)
+        } else {
+            let y = match surface {
+                ROUND => q[1],
+                CYLINDER => 0,
+                _ => ((1i64 << 30) - q[1]) >> 2,
+            };
+            [q[0] >> 14, y >> 14, q[2] >> 14]
+        };
+        let half_f = half_f(q, p, nb, surface)?;
+        // n · D at 2^(e − low + k − 16), below 2^43 (|n| below 4).
+        let slope = nb[0] * dir[0] + nb[1] * dir[1] + nb[2] * dir[2];
+        if slope == 0 || half_f.unsigned_abs() >= 1 << 40 {
+            return None;
+        }
+        let step = if sh >= 0 {
+            // half_f below 2^40: 22 bits of room, the rest off the slope.
+            let up = sh.min(22) as u32;
+            let down = (sh as u32 - up).min(63);
+            let slope = slope >> down;
+            if slope == 0 {
+                return None;
+            }
+            div_round_i64(half_f << up, slope)
+        } else {
+            // The slope below 2^43: up to 19 bits of room.
+            let down = (-sh) as u32;
+            if down > 19 {
+                return None;
+            }
+            div_round_i64(half_f, slope << down)
+        };
+        t = ((s.to_bits() as i64) << 14) - step;
+        s = round14(t);
+    }
+    Some(t)
 }
 
 /// One axis of `o 2^g + m s` (with `o`'s bits below Q16.16, `o_lo` at

@@ -269,6 +269,24 @@ mod kernels {
             None
         }
 
+        /// A hit's world distance along the world ray `o + s d` taken again
+        /// from the exact ray (`q16::exact_t`), at 2^-30 world units: `hit`
+        /// its object-space point and normal on the `surface` (as in
+        /// [`Kernels::exact_cells`]), `s` its rounded distance. Where two
+        /// objects' hits lie within a few steps of each other, the nearer is
+        /// decided on it. `None` where the type has no such kernel (f32,
+        /// whose order stays as it was) or the scales do not fit.
+        fn exact_t(
+            _rows: &[Self::Row; 3],
+            _o: [Self; 3],
+            _d: &Self::Dir,
+            _s: Self,
+            _hit: ([Self; 3], [Self; 3]),
+            _surface: u8,
+        ) -> Option<i64> {
+            None
+        }
+
         /// The empty accumulator.
         fn acc_zero() -> Self::Acc;
         /// `acc + x`.

@@ -567,8 +567,8 @@ impl<S: Scalar> Object<S> {
         let cell = |x: S, nx: S| S::checker_near(x, side, k, flat && nx != S::ZERO);
         let (a, b, c) = (cell(p.x, n.x), cell(p.y, n.y), cell(p.z, n.z));
         let mut sum = a.0 + b.0 + c.0;
-        // Never with the feature `no-checker-retake` (the micro:bit's flash).
-        if !cfg!(feature = "no-checker-retake") && (a.1 || b.1 || c.1) {
+        // Never with the feature `no-exact-retakes` (the micro:bit's flash).
+        if !cfg!(feature = "no-exact-retakes") && (a.1 || b.1 || c.1) {
             sum = self.exact_cells(hit, o, d).unwrap_or(sum);
         }
         sum & 1 == 1
@@ -584,17 +584,44 @@ impl<S: Scalar> Object<S> {
     #[cold]
     #[inline(never)]
     fn exact_cells(&self, hit: &Hit<S>, o: Vec3<S>, d: &S::Dir) -> Option<i64> {
+        self.to_object.exact_cells(
+            o,
+            d,
+            hit.t,
+            (hit.local.p, hit.local.n),
+            self.surface(hit),
+            (self.texture, self.inv_texture),
+        )
+    }
+
+    /// The surface a hit lies on, for the exact kernels (`q16::FLAT`,
+    /// `ROUND`, `CYLINDER`, `CONE`): a side's normal has an x or z part, a
+    /// cap's, a cube's face's and the plane's are flat.
+    fn surface(&self, hit: &Hit<S>) -> u8 {
         use crate::number::{CONE, CYLINDER, FLAT, ROUND};
         let n = hit.local.n;
         let side_of = |code| if n.x == S::ZERO && n.z == S::ZERO { FLAT } else { code };
-        let surface = match self.shape {
+        match self.shape {
             Shape::Sphere => ROUND,
             Shape::Cylinder => side_of(CYLINDER),
             Shape::Cone => side_of(CONE),
             _ => FLAT,
-        };
+        }
+    }
+
+    /// A hit's world distance along the world ray `o + t d` (`d` held
+    /// precisely) taken again from the exact ray, at 2^-30 world units
+    /// (`Kernels::exact_t`): `None` where the type has no such kernel
+    /// (f32) or the scales do not fit.
+    pub fn exact_t(&self, hit: &Hit<S>, o: Vec3<S>, d: &S::Dir) -> Option<i64> {
         self.to_object
-            .exact_cells(o, d, hit.t, (hit.local.p, n), surface, (self.texture, self.inv_texture))
+            .exact_t(o, d, hit.t, (hit.local.p, hit.local.n), self.surface(hit))
+    }
+
+    /// [`Object::exact_t`] for a hit of [`Object::intersect`]'s ray `o + t d`
+    /// (`d` as rounded: the property test's).
+    pub fn exact_t_along(&self, hit: &Hit<S>, o: Vec3<S>, d: Vec3<S>) -> Option<i64> {
+        self.exact_t(hit, o, &S::dir_from(d.to_array()))
     }
 
     /// The checker's darkening (1 on a light square, 1/4 on a dark one)
@@ -706,9 +733,10 @@ pub struct Scene<S: Scalar> {
     pub(crate) objects: heapless::Vec<Object<S>, MAX_OBJECTS>,
     /// The point lights, in file order (see [`Scene::lights`]).
     pub(crate) lights: heapless::Vec<Light<S>, MAX_LIGHTS>,
-    /// Whether a checker hit near a border retakes its cells from the exact
-    /// ray (fix 16; see [`Scene::set_checker_retake`]). Not baked, not parsed.
-    pub(crate) checker_retake: bool,
+    /// Whether close decisions (checker borders, two objects at one depth)
+    /// are retaken from the exact ray (fixes 16 and 17; see
+    /// [`Scene::set_exact_retakes`]). Not baked, not parsed.
+    pub(crate) exact_retake: bool,
 }
 
 impl<S: Scalar> Scene<S> {
@@ -727,22 +755,25 @@ impl<S: Scalar> Scene<S> {
         self.lights.truncate(n);
     }
 
-    /// Whether a Q16.16 hit within 2⁻¹⁰ of a checker border takes its cells
-    /// again from the exact ray ([`Object::in_dark_square_of`], fix 16): on
-    /// by default; off, every hit keeps its rounded point's cells
-    /// ([`Object::in_dark_square`]), as a build with the feature
-    /// `no-checker-retake` (the micro:bit's) always does. For the host to
-    /// render as the micro:bit does (its firmware test); f32 never retakes.
+    /// Whether Q16.16 takes its close decisions again from the exact ray:
+    /// a hit within 2⁻¹⁰ of a checker border its cells
+    /// ([`Object::in_dark_square_of`], fix 16), and two objects met within
+    /// 2⁻⁸ of each other their order (`Scene::nearer_exact`, fix 17). On by
+    /// default; off, every hit keeps its rounded point's cells
+    /// ([`Object::in_dark_square`]) and the nearest hit its rounded t, as a
+    /// build with the feature `no-exact-retakes` (the micro:bit's) always
+    /// does. For the host to render as the micro:bit does (its firmware
+    /// test); f32 never retakes.
     #[doc(hidden)]
-    pub fn set_checker_retake(&mut self, on: bool) {
-        self.checker_retake = on;
+    pub fn set_exact_retakes(&mut self, on: bool) {
+        self.exact_retake = on;
     }
 
-    /// Whether checker hits near a border are retaken: the switch, and
-    /// never with the feature `no-checker-retake`.
+    /// Whether close decisions are retaken from the exact ray: the switch,
+    /// and never with the feature `no-exact-retakes`.
     #[inline(always)]
-    pub(crate) fn checker_retakes(&self) -> bool {
-        !cfg!(feature = "no-checker-retake") && self.checker_retake
+    pub(crate) fn exact_retakes(&self) -> bool {
+        !cfg!(feature = "no-exact-retakes") && self.exact_retake
     }
 }
 
@@ -755,7 +786,7 @@ impl<S: Scalar> Default for Scene<S> {
             background: Vec3::ZERO,
             shadows: false,
             objects: heapless::Vec::new(),
-            checker_retake: true,
+            exact_retake: true,
             lights: heapless::Vec::new(),
         }
     }
