@@ -4,41 +4,21 @@
 //! square flips (small, turned, stretched objects: an object-space error
 //! grows with the inverse scale). See docs/accuracy.md, fix 16.
 
+mod common;
+use common::{random_placement, rng, stored_rows_delta, SteppedRay};
 use lensray::unstable::scene::{Object, ObjectDesc, DEFAULT_MATERIAL};
 use lensray::{Scalar, Shape, Vec3, I16F16};
 use lensray_host::reference64::{Object64, Scene64};
 
 /// xorshift64*: the test's seeded random source, uniform in [0, 1).
-fn rng(mut s: u64) -> impl FnMut() -> f64 {
-    move || {
-        s ^= s >> 12;
-        s ^= s << 25;
-        s ^= s >> 27;
-        (s.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// One textured object in both forms, Q16.16 and f64, from the same scene
 /// text: scaled 0.2 to 1.5 per axis (a plane 0.5 to 20), turned twice,
 /// anywhere within 30, squares of 0.1 to 0.6 object units (and their side).
 fn object(shape: Shape, r: &mut impl FnMut() -> f64) -> (Object<I16F16>, Object64, f64) {
     let big = if shape == Shape::Plane { 15.0 } else { 1.3 };
-    let s = [0, 1, 2].map(|_| 0.2 + big * r());
-    let names = ["x", "y", "z"];
-    let (ax, ang) = (names[(r() * 3.0) as usize], r() * 360.0);
-    let (ax2, ang2) = (names[(r() * 3.0) as usize], r() * 360.0);
-    let t = [0, 1, 2].map(|_| (r() - 0.5) * 60.0);
+    let placement = random_placement(r, big);
     let texture = 0.1 + 0.5 * r();
-    let text = format!(
-        "object {}\ntexture {texture:.5}\nscale {:.4} {:.4} {:.4}\nrotate {ax} {ang:.4}\nrotate {ax2} {ang2:.4}\ntranslate {:.4} {:.4} {:.4}\n",
-        shape.name(),
-        s[0],
-        s[1],
-        s[2],
-        t[0],
-        t[1],
-        t[2]
-    );
+    let text = format!("object {}\ntexture {texture:.5}\n{placement}", shape.name());
     let o64 = Scene64::parse(&text).objects.remove(0);
     let mut desc = ObjectDesc::new(shape, &DEFAULT_MATERIAL, o64.to_world);
     desc.texture = (texture * 1e5).round() / 1e5;
@@ -56,17 +36,7 @@ fn object(shape: Shape, r: &mut impl FnMut() -> f64) -> (Object<I16F16>, Object6
 /// `δ − D (n · δ) / (n · D)`; the kernel's own rounding (`q` and the step at
 /// 2^-30) adds a few 2^-30. Measured: `q` itself within 6e-10 of `M̃ w + t̃`.
 fn row_error(o64: &Object64, w: [f64; 3], d: [f64; 3], n: [f64; 3]) -> f64 {
-    let delta = o64.to_object.0.map(|r| {
-        let big = r[..3].iter().fold(0.0f64, |a, x| a.max(x.abs()));
-        let mut shift = 30;
-        while shift > 0
-            && (big * 2f64.powi(shift) > 2f64.powi(30) || r[3].abs() * 2f64.powi(shift + 16) > 2f64.powi(60))
-        {
-            shift -= 1;
-        }
-        let stored = |x: f64, s: i32| (x * 2f64.powi(s)).round() / 2f64.powi(s) - x;
-        (0..3).map(|k| stored(r[k], shift) * w[k]).sum::<f64>() + stored(r[3], shift + 16)
-    });
+    let delta = stored_rows_delta(o64, w);
     let dd = o64.to_object.apply(d, false);
     let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let along = dot(n, delta) / dot(n, dd);
@@ -97,21 +67,9 @@ fn disagreements(cases: usize, retake: bool) -> Vec<(Shape, usize, usize, usize)
             let (obj, o64, side) = object(shape, &mut r);
             // Aim at a point near the centre (the plane: near its origin).
             let c = o64.to_world.apply([0, 1, 2].map(|_| (r() - 0.5) * 1.2), true);
-            let dir: [f64; 3] = {
-                let v = [r() - 0.5, r() - 0.5, r() - 0.5];
-                let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-                v.map(|x| x / l)
-            };
-            let dist = 20.0 + 100.0 * r();
-            let d = Vec3::<I16F16>::from_f64(dir.map(|x| -x)).normalize();
-            let df = d.to_f64();
-            let axis = (r() * 3.0) as usize;
-            let base = Vec3::<I16F16>::from_f64([0, 1, 2].map(|i| c[i] + dir[i] * dist)).to_array();
-            let origin = |k: i64| {
-                let mut o = base;
-                o[axis] = I16F16::from_bits(o[axis].to_bits() + k as i32);
-                o
-            };
+            let ray = SteppedRay::new(c, &mut r);
+            let (d, df) = (ray.d, ray.df);
+            let origin = |k: i64| ray.origin(k);
             // f64's hit: (part, dark).
             let hit64 = |k: i64| o64.hit(origin(k).map(|x| x.to_f64()), df, 1.0 / 1024.0, f64::INFINITY);
             let f64_at = |k: i64| hit64(k).map(|h| (h.part, o64.dark(h.p)));

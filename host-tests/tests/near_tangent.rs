@@ -4,38 +4,17 @@
 //! decision flips (small, turned, stretched objects: an object-space error
 //! grows with the inverse scale). See docs/accuracy.md, fix 10.
 
+mod common;
+use common::{random_placement, rng, SteppedRay};
 use lensray::unstable::scene::{Object, ObjectDesc, DEFAULT_MATERIAL};
 use lensray::{Scalar, Shape, Vec3, I16F16};
 use lensray_host::reference64::{Object64, Scene64};
 
 /// xorshift64*: the test's seeded random source, uniform in [0, 1).
-fn rng(mut s: u64) -> impl FnMut() -> f64 {
-    move || {
-        s ^= s >> 12;
-        s ^= s << 25;
-        s ^= s >> 27;
-        (s.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// One object in both forms, Q16.16 and f64, from the same scene text:
 /// scaled 0.2 to 1.5 per axis, turned twice, anywhere within 30.
 fn object(shape: Shape, r: &mut impl FnMut() -> f64) -> (Object<I16F16>, Object64) {
-    let s = [0, 1, 2].map(|_| 0.2 + 1.3 * r());
-    let names = ["x", "y", "z"];
-    let (ax, ang) = (names[(r() * 3.0) as usize], r() * 360.0);
-    let (ax2, ang2) = (names[(r() * 3.0) as usize], r() * 360.0);
-    let t = [0, 1, 2].map(|_| (r() - 0.5) * 60.0);
-    let text = format!(
-        "object {}\nscale {:.4} {:.4} {:.4}\nrotate {ax} {ang:.4}\nrotate {ax2} {ang2:.4}\ntranslate {:.4} {:.4} {:.4}\n",
-        shape.name(),
-        s[0],
-        s[1],
-        s[2],
-        t[0],
-        t[1],
-        t[2]
-    );
+    let text = format!("object {}\n{}", shape.name(), random_placement(r, 1.3));
     let o64 = Scene64::parse(&text).objects.remove(0);
     let desc = ObjectDesc::new(shape, &DEFAULT_MATERIAL, o64.to_world);
     (Object::new(&desc).expect("invertible"), o64)
@@ -52,24 +31,12 @@ fn disagreements(cases: usize) -> Vec<(Shape, usize, usize)> {
         for _ in 0..cases {
             let (obj, o64) = object(shape, &mut r);
             let c = o64.to_world.apply([0.0; 3], true);
-            // An origin 20 to 120 away, the direction at the centre, rounded.
-            let dir: [f64; 3] = {
-                let v = [r() - 0.5, r() - 0.5, r() - 0.5];
-                let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-                v.map(|x| x / l)
-            };
-            let dist = 20.0 + 100.0 * r();
-            let d = Vec3::<I16F16>::from_f64(dir.map(|x| -x)).normalize();
-            let df = d.to_f64();
-            // Slide the origin along an axis: f64 hits on the centre line and
-            // misses 4 units aside; bisect to the two neighbouring steps.
-            let axis = (r() * 3.0) as usize;
-            let base = Vec3::<I16F16>::from_f64([0, 1, 2].map(|i| c[i] + dir[i] * dist)).to_array();
-            let origin = |k: i64| {
-                let mut o = base;
-                o[axis] = I16F16::from_bits(o[axis].to_bits() + k as i32);
-                o
-            };
+            // An origin 20 to 120 away, the direction at the centre, rounded;
+            // slid along an axis: f64 hits on the centre line and misses 4
+            // units aside; bisect to the two neighbouring steps.
+            let ray = SteppedRay::new(c, &mut r);
+            let (d, df) = (ray.d, ray.df);
+            let origin = |k: i64| ray.origin(k);
             let hits64 = |k: i64| {
                 let o = origin(k).map(|x| x.to_f64());
                 o64.hit(o, df, 1.0 / 1024.0, f64::INFINITY).is_some()

@@ -6,19 +6,12 @@
 //! stretched, the second moved so that it passes through a point of the
 //! first's surface. See docs/accuracy.md, fix 17.
 
+mod common;
+use common::{rng, stored_rows_delta, SteppedRay};
 use lensray::{Scalar, Scene, Shape, Vec3, I16F16};
 use lensray_host::reference64::{Hit64, Object64, Scene64};
 
 /// xorshift64*: the test's seeded random source, uniform in [0, 1).
-fn rng(mut s: u64) -> impl FnMut() -> f64 {
-    move || {
-        s ^= s >> 12;
-        s ^= s << 25;
-        s ^= s >> 27;
-        (s.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 const SHAPES: [Shape; 5] = [Shape::Sphere, Shape::Cube, Shape::Cylinder, Shape::Cone, Shape::Plane];
 
 /// An object's statements: scaled 0.2 to 1.5 per axis, turned twice, moved by `t`.
@@ -68,17 +61,7 @@ fn surface_point(s64: &Scene64, c: [f64; 3], r: &mut impl FnMut() -> f64) -> Opt
 /// 2^-30 over the same slope.
 fn t_error(o64: &Object64, o: [f64; 3], d: [f64; 3], h: &Hit64) -> f64 {
     let w = [0, 1, 2].map(|i| o[i] + h.t * d[i]);
-    let delta = o64.to_object.0.map(|r| {
-        let big = r[..3].iter().fold(0.0f64, |a, x| a.max(x.abs()));
-        let mut shift = 30;
-        while shift > 0
-            && (big * 2f64.powi(shift) > 2f64.powi(30) || r[3].abs() * 2f64.powi(shift + 16) > 2f64.powi(60))
-        {
-            shift -= 1;
-        }
-        let stored = |x: f64, s: i32| (x * 2f64.powi(s)).round() / 2f64.powi(s) - x;
-        (0..3).map(|k| stored(r[k], shift) * w[k]).sum::<f64>() + stored(r[3], shift + 16)
-    });
+    let delta = stored_rows_delta(o64, w);
     let dd = o64.to_object.apply(d, false);
     let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let nd = dot(h.n, dd).abs();
@@ -127,17 +110,9 @@ fn disagreements(cases: usize) -> (usize, usize, usize, usize, Vec<String>) {
         let mut off = on.clone();
         off.set_exact_retakes(false);
         // An origin 20 to 120 away, the direction at p, rounded.
-        let dir = unit([r() - 0.5, r() - 0.5, r() - 0.5]);
-        let dist = 20.0 + 100.0 * r();
-        let d = Vec3::<I16F16>::from_f64(dir.map(|x| -x)).normalize();
-        let df = d.to_f64();
-        let axis = (r() * 3.0) as usize;
-        let base = Vec3::<I16F16>::from_f64([0, 1, 2].map(|i| p[i] + dir[i] * dist)).to_array();
-        let origin = |k: i64| {
-            let mut o = base;
-            o[axis] = I16F16::from_bits(o[axis].to_bits() + k as i32);
-            o
-        };
+        let ray = SteppedRay::new(p, &mut r);
+        let (d, df) = (ray.d, ray.df);
+        let origin = |k: i64| ray.origin(k);
         let nearest64 = |k: i64| s64.closest(origin(k).map(|x| x.to_f64()), df, 1e-3).map(|h| h.0);
         // f64's nearest object flips within 0.02 either side.
         let (mut lo, mut hi) = (-1310i64, 1310i64);

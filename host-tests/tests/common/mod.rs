@@ -34,3 +34,88 @@ pub fn render_float(text: &str, w: u32, h: u32, samples: Option<u32>) -> Image {
 pub fn level(v: f64) -> f64 {
     (255.0 * v.clamp(0.0, 1.0)).round()
 }
+
+/// A seeded xorshift generator of uniform f64 in [0, 1) (the property tests').
+pub fn rng(mut s: u64) -> impl FnMut() -> f64 {
+    move || {
+        s ^= s >> 12;
+        s ^= s << 25;
+        s ^= s >> 27;
+        (s.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// A ray aimed at a point from 20 to 120 away in a random direction, its
+/// origin in Q16.16, to be slid one Q16.16 step at a time along a random
+/// axis across a boundary near that point (the property tests' rays).
+pub struct SteppedRay {
+    /// The unit direction from the point back to the origin, in f64.
+    pub back: [f64; 3],
+    /// The ray's direction, rounded to Q16.16 and normalised.
+    pub d: lensray::Vec3<I16F16>,
+    /// `d` in f64.
+    pub df: [f64; 3],
+    base: [I16F16; 3],
+    axis: usize,
+}
+
+impl SteppedRay {
+    /// Draws the direction (three numbers), the distance and the axis, in that order.
+    pub fn new(at: [f64; 3], r: &mut impl FnMut() -> f64) -> Self {
+        let v = [r() - 0.5, r() - 0.5, r() - 0.5];
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        let back = v.map(|x| x / l);
+        let dist = 20.0 + 100.0 * r();
+        let d = lensray::Vec3::<I16F16>::from_f64(back.map(|x| -x)).normalize();
+        let df = d.to_f64();
+        let axis = (r() * 3.0) as usize;
+        let base = lensray::Vec3::<I16F16>::from_f64([0, 1, 2].map(|i| at[i] + back[i] * dist)).to_array();
+        SteppedRay {
+            back,
+            d,
+            df,
+            base,
+            axis,
+        }
+    }
+
+    /// The origin moved `k` Q16.16 steps along the axis.
+    pub fn origin(&self, k: i64) -> [I16F16; 3] {
+        let mut o = self.base;
+        o[self.axis] = I16F16::from_bits(o[self.axis].to_bits() + k as i32);
+        o
+    }
+}
+
+/// How far the object's stored rows put the world point `w` from where
+/// f64's map puts it, per object axis: each row holds its entries to
+/// 2^-shift and its translation to 2^-(shift + 16), `shift` the largest up
+/// to 30 that keeps the entries within 2^30 and the translation within 2^60
+/// (`Kernels::row_from_f64`: 30 significant bits).
+pub fn stored_rows_delta(o64: &lensray_host::reference64::Object64, w: [f64; 3]) -> [f64; 3] {
+    o64.to_object.0.map(|r| {
+        let big = r[..3].iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let mut shift = 30;
+        while shift > 0
+            && (big * 2f64.powi(shift) > 2f64.powi(30) || r[3].abs() * 2f64.powi(shift + 16) > 2f64.powi(60))
+        {
+            shift -= 1;
+        }
+        let stored = |x: f64, s: i32| (x * 2f64.powi(s)).round() / 2f64.powi(s) - x;
+        (0..3).map(|k| stored(r[k], shift) * w[k]).sum::<f64>() + stored(r[3], shift + 16)
+    })
+}
+
+/// A random placement as scene lines: scaled 0.2 to 0.2 + `big` per axis,
+/// turned twice about random axes, anywhere within 30 (draws nine numbers).
+pub fn random_placement(r: &mut impl FnMut() -> f64, big: f64) -> String {
+    let s = [0, 1, 2].map(|_| 0.2 + big * r());
+    let names = ["x", "y", "z"];
+    let (ax, ang) = (names[(r() * 3.0) as usize], r() * 360.0);
+    let (ax2, ang2) = (names[(r() * 3.0) as usize], r() * 360.0);
+    let t = [0, 1, 2].map(|_| (r() - 0.5) * 60.0);
+    format!(
+        "scale {:.4} {:.4} {:.4}\nrotate {ax} {ang:.4}\nrotate {ax2} {ang2:.4}\ntranslate {:.4} {:.4} {:.4}\n",
+        s[0], s[1], s[2], t[0], t[1], t[2]
+    )
+}
