@@ -688,13 +688,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             if far {
                 far = match t {
                     Some((i, t)) => {
-                        lamps |= if self.bright.is_bright(i) {
-                            lamp_far &= self.defocus.lamp_far_hit(ray.dir, t, self.bright.lamp());
-                            1
-                        } else {
-                            2
-                        };
-                        let (f, w) = self.defocus.far_hits(ray.dir, t);
+                        let bright = self.bright.is_bright(i);
+                        let lamp = if bright { self.bright.lamp() } else { 0 };
+                        let (f, w, l) = self.defocus.far_hits(ray.dir, t, lamp);
+                        lamps |= if bright { 1 } else { 2 };
+                        // Only a lamp's own hits decide its gate.
+                        lamp_far &= l || !bright;
                         wide &= w;
                         f
                     }

@@ -99,30 +99,21 @@ impl<S: Scalar> Defocus<S> {
     }
 
     /// Whether a point at distance `t` along unit `d` is spread over at least
-    /// [`FAR_COC_PIXELS`]: K |1 − 1/u| >= T, as (K/T) |u − 1| > u for u > 0.
+    /// [`FAR_COC_PIXELS`] (K |1 − 1/u| >= T, as (K/T) |u − 1| > u for u > 0),
+    /// over [`WIDE_COC_FACTOR`] times that (the 5-tap's gate), and over
+    /// `lamp` times that (a lamp's hit that may be mixed across its bokeh's
+    /// rim, `lamp` its bound in times white; 0 never): one depth ratio and
+    /// one spread for the three.
     #[inline]
-    pub fn far_hit(&self, d: Vec3<S>, t: S) -> bool {
-        let u = self.depth_ratio(d, t);
-        u > S::ZERO && self.far.mul(u.sub(S::ONE).abs()) > u
-    }
-
-    /// [`Defocus::far_hit`], and whether the point is spread over
-    /// [`WIDE_COC_FACTOR`] times as many pixels (the 5-tap's gate).
-    #[inline]
-    pub fn far_hits(&self, d: Vec3<S>, t: S) -> (bool, bool) {
+    pub fn far_hits(&self, d: Vec3<S>, t: S, lamp: u16) -> (bool, bool, bool) {
         let u = self.depth_ratio(d, t);
         let spread = self.far.mul(u.sub(S::ONE).abs());
         let pos = u > S::ZERO;
-        (pos && spread > u, pos && spread > u.mul(S::from_i32(WIDE_COC_FACTOR)))
-    }
-
-    /// Whether the point at distance `t` along unit `d` is spread over
-    /// `lamp` times [`FAR_COC_PIXELS`] or more: a lamp's hit that may be
-    /// mixed across its bokeh's rim (`lamp` its bound in times white; 0 never).
-    #[inline]
-    pub fn lamp_far_hit(&self, d: Vec3<S>, t: S, lamp: u16) -> bool {
-        let u = self.depth_ratio(d, t);
-        lamp != 0 && u > S::ZERO && self.far.mul(u.sub(S::ONE).abs()) > u.mul(S::from_i32(lamp as i32))
+        (
+            pos && spread > u,
+            pos && spread > u.mul(S::from_i32(WIDE_COC_FACTOR)),
+            pos && lamp != 0 && spread > u.mul(S::from_i32(lamp as i32)),
+        )
     }
 
     /// Whether a miss is spread over [`WIDE_COC_FACTOR`] times [`FAR_COC_PIXELS`].

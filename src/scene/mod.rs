@@ -558,12 +558,8 @@ impl<S: Scalar> Object<S> {
         let (side, k) = (self.texture, self.inv_texture);
         // A flat face's own axis (the normal along it) holds the face's exact
         // coordinate, never in doubt; a curved surface's point is in doubt
-        // on every axis (as [`Object::exact_cells`] sorts them).
-        let flat = match self.shape {
-            Shape::Sphere => false,
-            Shape::Cylinder | Shape::Cone => n.x == S::ZERO && n.z == S::ZERO,
-            _ => true,
-        };
+        // on every axis.
+        let flat = self.surface(hit) == crate::number::FLAT;
         let cell = |x: S, nx: S| S::checker_near(x, side, k, flat && nx != S::ZERO);
         let (a, b, c) = (cell(p.x, n.x), cell(p.y, n.y), cell(p.z, n.z));
         let mut sum = a.0 + b.0 + c.0;
