@@ -151,7 +151,7 @@ fn mix5(a: Rgb888, b: Rgb888, c: Rgb888, d: Rgb888, e: Rgb888) -> Rgb888 {
 /// A row's pixels, filtered, in order from column 0 (see the module): from
 /// `pixel`, which renders column c as its colour, its rays and its class: 0
 /// where some ray met something within [`FAR_COC_PIXELS`] (see
-/// [`Defocus::far_hit`]) or met both a lamp and something else, else 1 if
+/// [`Defocus::far_hits`]) or met both a lamp and something else, else 1 if
 /// they all met lamps, 2 if none did. A pixel is filtered where it and both
 /// neighbours share a class other than 0.
 pub struct Scanline<F> {
