@@ -151,9 +151,11 @@ fn mix5(a: Rgb888, b: Rgb888, c: Rgb888, d: Rgb888, e: Rgb888) -> Rgb888 {
 /// A row's pixels, filtered, in order from column 0 (see the module): from
 /// `pixel`, which renders column c as its colour, its rays and its class: 0
 /// where some ray met something within [`FAR_COC_PIXELS`] (see
-/// [`Defocus::far_hits`]) or met both a lamp and something else, else 1 if
-/// they all met lamps, 2 if none did. A pixel is filtered where it and both
-/// neighbours share a class other than 0.
+/// [`Defocus::far_hits`]) or met both a lamp and something else (unless
+/// every lamp's hit passed its gate: then 2), else 1 if they all met lamps,
+/// 2 if none did, with [`WIDE`] where every ray passed the 5-tap's gate. A
+/// pixel is filtered where it and both neighbours share a class other than
+/// 0 (the 5-tap where it and two each side share one with [`WIDE`]).
 pub struct Scanline<F> {
     pixel: F,
     /// The next column to yield.
