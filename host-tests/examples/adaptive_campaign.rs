@@ -7,10 +7,10 @@
 //! ```
 //! Defaults: seeds 1..=40, 160x120, 1024 reference samples. A seed whose
 //! `point` is 1 or 2 is listed but not judged: 40 % of it is under one ray
-//! a pixel. At 3 and 4 the default casts every sample (below
-//! [`lensray::unstable::render::ADAPTIVE_BUDGET_POINT`]): judged, and failing
-//! the ray floor by choice. The
-//! summary counts every judged seed, then those of `point` below 20 alone.
+//! a pixel. From 3 (
+//! [`lensray::unstable::render::ADAPTIVE_BUDGET_POINT`]) every seed is
+//! judged. The summary counts every judged seed, then those of `point`
+//! below 20 alone.
 
 use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};

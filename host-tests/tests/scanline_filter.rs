@@ -1,7 +1,7 @@
 //! The scanline filter (issue 14, `src/render/scanline.rs`): a row's pixel
 //! differs from the pixel rendered alone only where it, both its neighbours
-//! and every ray they cast see what is spread over at least
-//! `FAR_COC_PIXELS` (circles of confusion recomputed here in f64 from each
+//! and every ray they cast see what is spread over at least the gate,
+//! `FAR_COC_PIXELS` or below `point` 20 `SMALL_PILOT_COC_PIXELS` (circles of confusion recomputed here in f64 from each
 //! ray's own hit) and their rays all met lamps or all met none (a pixel
 //! whose rays met both counts as meeting none where every lamp it met is
 //! spread over the brightest lamp's bound times the gate), and then it
@@ -12,7 +12,7 @@
 
 use embedded_graphics::mock_display::MockDisplay;
 use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
-use lensray::unstable::render::scanline::{far_ratio, FAR_COC_PIXELS, WIDE_COC_FACTOR};
+use lensray::unstable::render::scanline::{far_coc_pixels, far_ratio, FAR_COC_PIXELS, WIDE_COC_FACTOR};
 use lensray::unstable::sampler::{PixelSamples, Sampler};
 use lensray::{progressive, CameraSample, Renderer, Scalar, Scene, I16F16};
 
@@ -65,7 +65,7 @@ fn coc_and_lamps<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row
     }
     let both = met == 3;
     if both {
-        let gate = FAR_COC_PIXELS * r.bright_footprints().lamp() as f64;
+        let gate = far_coc_pixels(r.samples()) * r.bright_footprints().lamp() as f64;
         met = if lamp_coc >= 1.02 * gate {
             2
         } else if lamp_coc < 0.98 * gate {
@@ -100,7 +100,9 @@ fn check<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, label: &str) -> (u32, u32)
         r.render_row(row, &mut out);
         let alone: Vec<Rgb888> = (0..w).map(|c| r.pixel(c, row)).collect();
         let info: Vec<(f64, u8)> = (0..w).map(|c| smallest_coc(&r, scene, c, row)).collect();
-        let wide_coc = WIDE_COC_FACTOR as f64 * FAR_COC_PIXELS;
+        // The frame's gate: 4 pixels, 2 below `point` 20.
+        let gate = far_coc_pixels(r.samples());
+        let wide_coc = WIDE_COC_FACTOR as f64 * gate;
         for c in 0..w as usize {
             // A lamp's hit within the slack of its gate: either class may hold.
             if info[c.saturating_sub(2)..(c + 3).min(w as usize)]
@@ -132,7 +134,7 @@ fn check<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, label: &str) -> (u32, u32)
             if out[c] != alone[c] {
                 // Q16.16's depths against f64's: 2 % of slack.
                 assert!(
-                    alike && least >= 0.98 * FAR_COC_PIXELS,
+                    alike && least >= 0.98 * gate,
                     "{label} ({c}, {row}) filtered at a circle of confusion of {least:.2} pixels, {window:?}"
                 );
                 assert_eq!(
@@ -141,7 +143,7 @@ fn check<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, label: &str) -> (u32, u32)
                     "{label} ({c}, {row})"
                 );
             }
-            if alike && least >= 1.02 * FAR_COC_PIXELS {
+            if alike && least >= 1.02 * gate {
                 // The gate is open here: the row holds the mix (equal to the pixel where smooth).
                 assert_eq!(
                     out[c],
@@ -149,7 +151,7 @@ fn check<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, label: &str) -> (u32, u32)
                     "{label} ({c}, {row})"
                 );
                 filtered += 1;
-            } else if !alike || least < 0.98 * FAR_COC_PIXELS {
+            } else if !alike || least < 0.98 * gate {
                 assert_eq!(out[c], alone[c], "{label} ({c}, {row})");
                 held += 1;
             }
@@ -262,7 +264,7 @@ fn an_edge_in_focus_stays_exact() {
         let mut out = vec![Rgb888::BLACK; w as usize];
         r.render_row(row, &mut out);
         let near: Vec<bool> = (0..w)
-            .map(|c| smallest_coc(&r, &scene, c, row).0 < FAR_COC_PIXELS)
+            .map(|c| smallest_coc(&r, &scene, c, row).0 < far_coc_pixels(r.samples()))
             .collect();
         for c in 0..w as usize {
             let touches = near[c] || (c > 0 && near[c - 1]) || (c + 1 < w as usize && near[c + 1]);

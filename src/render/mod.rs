@@ -53,8 +53,8 @@ pub struct Renderer<'a, S: Scalar> {
     /// beyond its pilot grows with its own spread over this one.
     pub(crate) spread: u32,
     /// The mean samples a pixel that settles at its plain pilot takes where
-    /// the survey found budget to spare (every unsettled pixel may take
-    /// every sample and rays are left): such a pixel goes on to it (dithered
+    /// the survey found budget to spare (rays left once the unsettled pixels
+    /// take what the survey measured them to): such a pixel goes on to it (dithered
     /// to a power of two, [`dithered_cap`]) and stops there. 0: none.
     pub(crate) floor: u32,
 }
@@ -85,6 +85,7 @@ pub const ADAPTIVE_MIN_POINT: u32 = 5 * ADAPTIVE_SMALL_PILOT / 2;
 
 // Rows are filtered wherever there is a ray budget (a literal there: no import cycle).
 const _: () = assert!(scanline::FILTER_MIN_POINT == ADAPTIVE_BUDGET_POINT);
+const _: () = assert!(scanline::SMALL_PILOT_POINT == ADAPTIVE_EIGHT_POINT);
 
 /// The fewest samples with a ray budget (adaptive on, below
 /// [`ADAPTIVE_MIN_POINT`]: every pixel takes 40 % of `point`, dithered
@@ -195,10 +196,12 @@ pub fn survey_stride(cols: u32, rows: u32, samples: u32) -> Option<u32> {
 }
 
 /// The variance of an adaptive pixel's mean, in 8-bit levels squared, below
-/// which it stops whatever its samples, in sixteenths (4: a quarter level²;
-/// at one level², pixels of faint noise stopped at the pilot summed to more
-/// error than `point` independent samples leave).
-const ADAPTIVE_VAR_SIXTEENTHS: u64 = 4;
+/// which it stops whatever its samples, in sixteenths (1: a sixteenth of a
+/// level²; at one level², pixels of faint noise stopped at the pilot summed
+/// to more error than `point` independent samples leave, and at a quarter,
+/// frames near 75 dB lost 1-level roundings to them: seed 8606, `point` 15,
+/// -0.59 dB against `point` independent samples, -0.42 at a sixteenth).
+const ADAPTIVE_VAR_SIXTEENTHS: u64 = 1;
 
 /// The variance of an adaptive pixel's mean below which it stops, relative
 /// to that of the independent full render (s²/`point`), in sixteenths (16:
@@ -274,14 +277,13 @@ impl LevelStats {
         const T: u64 = ADAPTIVE_VAR_SIXTEENTHS;
         const REL: u64 = ADAPTIVE_REL_SIXTEENTHS;
         const GAIN: u64 = ADAPTIVE_MAX_GAIN;
-        // The divisions by 16 below are exact.
-        const _: () = assert!((GAIN * T).is_multiple_of(16));
+        // The divisions by 16 below are exact: n is a multiple of 4.
         let n32 = n;
         let (n, h, full) = (n as u64, (n / 4) as u64, full as u64);
         // n = 4h: 16 V_q <= T/16 · 192 h² reads D <= 3 T h², and 16 s²/(n G) <= T
         // reads spread <= G T n² (n − 1) / 16.
         let abs_d = 3 * T * h * h;
-        let abs_s = GAIN * T / 16 * n * n * (n - 1);
+        let abs_s = GAIN * T * n * n * (n - 1) / 16;
         let rel_ok = full * 16 <= REL * n * GAIN;
         let (mut settled, mut var) = (true, 0u64);
         for i in 0..3 {
@@ -375,7 +377,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// leave goes to the unsettled ones, also in lamps' footprints. Every
     /// pixel still depends only on its position (rows in any order, the
     /// progressive passes the same image). The unsettled pixels' mean spread
-    /// sets how they share it (see [`Renderer::pixel_rays`]). Set-up only, in integers.
+    /// sets how they share it (see [`Renderer::pixel_rays`]). Then the grid
+    /// runs again under C to measure what the unsettled pixels take, and what
+    /// that leaves, with margins, sets [`Renderer::floor`]. Set-up only, in integers.
     fn surveyed(mut self) -> Self {
         self.cap = adaptive_limit(self.samples);
         self.survey_rays = 0;
@@ -441,10 +445,6 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let root = crate::number::wide::isqrt_rem_u64(var).0;
         let sigma = root + (root * root < var) as u64;
         let pixels = cols as u128 * rows as u128;
-        // The floor spends what the cap leaves: three deviations there, and
-        // three pixels more for a share the survey never saw (seed 8212: none
-        // of 70 surveyed, 0.6 % of the frame, which cast 40.3 %).
-        let unsettled_all = 5 * (unsettled + 3 * sigma + 3) as u128 * pixels * self.samples as u128;
         let unsettled = unsettled + sigma;
         // 5 (R + N/G (S + U C)) <= 2 samples N, times G.
         let budget = (2 * self.samples as u128 * pixels).saturating_sub(5 * rays as u128) * count as u128;
@@ -454,19 +454,55 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             Some(left) => (left / (5 * unsettled as u128 * pixels)).min(self.samples as u128) as u32,
             None => 0,
         };
-        // Rays left with every unsettled pixel at every sample go to the
-        // pixels settled at the plain pilot, as a floor (seeds 1042, 8232 cast
-        // 21 and 18 % of `point` and missed by stopping early).
-        if let (true, Some(left)) = (
-            self.cap == self.samples && plain_settled > 0,
-            budget.checked_sub(spent + unsettled_all),
-        ) {
-            let extra = left / (5 * plain_settled as u128 * pixels);
-            let floor = adaptive_pilot(self.samples) as u128 + extra;
-            self.floor = floor.min(self.samples as u128) as u32;
-        }
         self.survey_rays = rays as u32;
         self.spread = spreads.div_ceil(unsettled.max(1)).min(u32::MAX as u64) as u32;
+        // Rays the unsettled pixels leave go to the pixels settled at the
+        // plain pilot, as a floor (seeds 1042, 8232 cast 21 and 18 % of
+        // `point` and missed by stopping early).
+        if self.cap == self.samples && plain_settled > 0 && !cfg!(feature = "no-spare-floor") {
+            let budget_after =
+                |rays: u64| (2 * self.samples as u128 * pixels).saturating_sub(5 * rays as u128) * count as u128;
+            // The unsettled pixels' rays, high: every sample, three count
+            // deviations and three pixels more (seed 8212: none of 70 surveyed,
+            // 0.6 % of the frame, cast 40.3 %).
+            let mut high = (unsettled + 2 * sigma + 3) * self.samples as u64;
+            let mut rays = rays;
+            // Or measured on the grid under the cap, where the budget holds
+            // that pass at its most (pilots again, unsettled pixels at every
+            // sample): most settle long before every sample (frames at 320x240
+            // cast 26 to 35 % of `point`; seed 8708 25.9 % -> 34.3 %, +0.7 dB).
+            let most = settled_pilots + unsettled * self.samples as u64;
+            if unsettled > 0
+                && budget_after(rays + most) >= spent + 5 * (unsettled * self.samples as u64) as u128 * pixels
+            {
+                let (mut measured, mut sum, mut squares, mut seen) = (0u64, 0u64, 0u64, 0u64);
+                for (x, y) in grid(s) {
+                    let (_, n, _, _) = self.pixel_rays_within(x, y, self.cap);
+                    measured += n as u64;
+                    if n > pilot(x, y) {
+                        sum += n as u64;
+                        squares += n as u64 * n as u64;
+                        seen += 1;
+                    }
+                }
+                rays += measured;
+                // Their sum, the same count margins at their mean, and three deviations of the sum.
+                let mean = sum.div_ceil(seen.max(1)).max(adaptive_pilot(self.samples) as u64);
+                let var = (seen * squares).saturating_sub(sum * sum).div_ceil(seen.max(1));
+                let dev = crate::number::wide::isqrt_rem_u64(var).0 + 1;
+                let margin = unsettled - seen.min(unsettled) + 2 * sigma + 3;
+                high = high.min(sum + margin * mean + 3 * dev);
+            }
+            if let Some(left) = budget_after(rays).checked_sub(spent + 5 * high as u128 * pixels) {
+                // Three deviations and three pixels more of those that take the floor.
+                let var = (plain_settled * (count - plain_settled)).div_ceil(count);
+                let takers = plain_settled + 3 * crate::number::wide::isqrt_rem_u64(var).0 + 3;
+                let extra = left / (5 * takers as u128 * pixels);
+                let floor = adaptive_pilot(self.samples) as u128 + extra;
+                self.floor = floor.min(self.samples as u128) as u32;
+            }
+            self.survey_rays = rays as u32;
+        }
         self
     }
 
@@ -516,6 +552,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// How lens points are drawn.
     pub fn sampler(&self) -> Sampler {
         self.sampler
+    }
+
+    /// The lens samples a pixel (`point`, or [`Renderer::with_samples`]'): the
+    /// most an adaptive pixel takes.
+    pub fn samples(&self) -> u32 {
+        self.samples
     }
 
     /// Whether lens sampling is adaptive.
@@ -670,6 +712,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // The scanline filter's gate: true while every ray met something far
         // out of focus; what they met: bit 0 a lamp, bit 1 anything else.
         let mut far = self.filters();
+        let gate = self.defocus.gated(self.samples);
         // And while every ray met something twice as far out of focus (the 5-tap).
         let mut wide = far;
         // And while every lamp's ray met it spread over its brightness times the gate.
@@ -690,7 +733,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     Some((i, t)) => {
                         let bright = self.bright.is_bright(i);
                         let lamp = if bright { self.bright.lamp() } else { 0 };
-                        let (f, w, l) = self.defocus.far_hits(ray.dir, t, lamp);
+                        let (f, w, l) = gate.far_hits(ray.dir, t, lamp);
                         lamps |= if bright { 1 } else { 2 };
                         // Only a lamp's own hits decide its gate.
                         lamp_far &= l || !bright;
@@ -699,8 +742,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     }
                     None => {
                         lamps |= 2;
-                        wide &= self.defocus.wide_miss();
-                        self.defocus.far_miss()
+                        wide &= gate.wide_miss();
+                        gate.far_miss()
                     }
                 };
             }

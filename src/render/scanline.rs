@@ -6,7 +6,8 @@
 //! diameter 2aN |1/z_f − 1/z| (a the lens radius, N the image distance, z_f
 //! the depth in focus): K |1 − 1/u| pixels, with u = z/z_f and K = 2aN/(z_f p)
 //! for a pixel pitch p. Where everything a pixel's rays meet is spread over
-//! at least [`FAR_COC_PIXELS`] pixels, the converged picture changes by at
+//! at least [`FAR_COC_PIXELS`] pixels (below [`SMALL_PILOT_POINT`] samples,
+//! [`SMALL_PILOT_COC_PIXELS`]: see there), the converged picture changes by at
 //! most about a quarter of its contrast from one pixel to the next and is
 //! nearly linear over three of them, while each pixel's lens integral is
 //! still noisy (a frame of near objects, nothing in focus: stratification
@@ -51,9 +52,30 @@ use crate::render::defocus::Defocus;
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 
 /// The smallest circle of confusion, in pixels, that lets a pixel be
-/// filtered (4: no lens scene of scenes/ lost at 320×240 and generated
-/// frames gained about the most; 2 lost 1.9 dB on `paper-fig8-pinhole`).
+/// filtered from [`SMALL_PILOT_POINT`] samples (4: no lens scene of scenes/
+/// lost at 320×240 and generated frames gained about the most; 2 lost 1.9 dB
+/// on `paper-fig8-pinhole`, 3 lost 0.09 dB a seed at `point` 20 to 40).
 pub const FAR_COC_PIXELS: f64 = 4.0;
+
+/// The gate below [`SMALL_PILOT_POINT`] samples, where a pixel takes 4 rays
+/// or fewer before any check (a quarter of a pilot of 16, four times its
+/// noise): the filter's bias falls with the square of the blur, so half the
+/// blur is worth there what 4 pixels are above. Generated scenes at 320×240
+/// and `point` 3 to 19 met both floors 320 times in 340 with it, 312 with 4.
+pub const SMALL_PILOT_COC_PIXELS: f64 = 2.0;
+
+/// The fewest samples whose gate is [`FAR_COC_PIXELS`]: where the pilot is
+/// 8 (`ADAPTIVE_EIGHT_POINT`, asserted where both are seen).
+pub const SMALL_PILOT_POINT: u32 = 20;
+
+/// The filter's gate, in pixels, for a frame of `samples` lens samples a pixel.
+pub fn far_coc_pixels(samples: u32) -> f64 {
+    if samples < SMALL_PILOT_POINT {
+        SMALL_PILOT_COC_PIXELS
+    } else {
+        FAR_COC_PIXELS
+    }
+}
 
 /// How many times [`FAR_COC_PIXELS`] a pixel's and its four neighbours'
 /// circles of confusion must all span for the 5-tap (1, 4, 6, 4, 1)/16.
@@ -73,7 +95,8 @@ pub const WIDE: u8 = 4;
 pub const FILTER_MIN_POINT: u32 = 3;
 
 /// K / T: the circle of confusion of a point at infinity in pixels of an
-/// image `cols` wide, over [`FAR_COC_PIXELS`]; 0 for a pinhole or a camera
+/// image `cols` wide, over [`FAR_COC_PIXELS`] (twice that below
+/// [`SMALL_PILOT_POINT`] samples: [`Defocus::gated`]); 0 for a pinhole or a camera
 /// focused nowhere. Set-up only, in f64.
 pub fn far_ratio(cam: &CameraParams, cols: u32) -> f64 {
     let z_f = cam.focus_depth();
@@ -98,8 +121,20 @@ impl<S: Scalar> Defocus<S> {
         self
     }
 
+    /// This defocus with the gate of a frame of `samples` a pixel
+    /// ([`far_coc_pixels`]): K/T doubled below [`SMALL_PILOT_POINT`]. Per
+    /// frame, not baked: a renderer's samples may change after set-up.
+    #[inline]
+    pub fn gated(mut self, samples: u32) -> Self {
+        const _: () = assert!(FAR_COC_PIXELS == 2.0 * SMALL_PILOT_COC_PIXELS);
+        if samples < SMALL_PILOT_POINT {
+            self.far = self.far.add(self.far);
+        }
+        self
+    }
+
     /// Whether a point at distance `t` along unit `d` is spread over at least
-    /// [`FAR_COC_PIXELS`] (K |1 − 1/u| >= T, as (K/T) |u − 1| > u for u > 0),
+    /// the gate T ([`far_coc_pixels`]; K |1 − 1/u| >= T, as (K/T) |u − 1| > u for u > 0),
     /// over [`WIDE_COC_FACTOR`] times that (the 5-tap's gate), and over
     /// `lamp` times that (a lamp's hit that may be mixed across its bokeh's
     /// rim, `lamp` its bound in times white; 0 never): one depth ratio and
@@ -116,7 +151,7 @@ impl<S: Scalar> Defocus<S> {
         )
     }
 
-    /// Whether a miss is spread over [`WIDE_COC_FACTOR`] times [`FAR_COC_PIXELS`].
+    /// Whether a miss is spread over [`WIDE_COC_FACTOR`] times the gate.
     #[inline]
     pub fn wide_miss(&self) -> bool {
         self.far > S::from_i32(WIDE_COC_FACTOR)
