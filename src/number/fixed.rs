@@ -564,6 +564,18 @@ impl Kernels for I16F16 {
     ) -> Option<i64> {
         crate::number::q16::exact_t(rows, o, d, s, hit, surface)
     }
+    fn exact_hit_point(o: [Self; 3], d: &FixedDir, t: i64) -> Option<[Self; 3]> {
+        crate::number::q16::exact_hit_point(o, d, t)
+    }
+    fn shadow_line(
+        o: [Self; 3],
+        d: &FixedDir,
+        t: i64,
+        offset: ([Self; 3], Self),
+        light: [Self; 3],
+    ) -> Option<([Self; 3], FixedDir)> {
+        crate::number::q16::shadow_line(o, d, t, offset, light)
+    }
     #[inline]
     fn acc_zero() -> i64 {
         0
