@@ -805,8 +805,9 @@ pub struct Scene<S: Scalar> {
     pub(crate) objects: heapless::Vec<Object<S>, MAX_OBJECTS>,
     /// The point lights, in file order (see [`Scene::lights`]).
     pub(crate) lights: heapless::Vec<Light<S>, MAX_LIGHTS>,
-    /// Whether close decisions (checker borders, two objects at one depth)
-    /// are retaken from the exact ray (fixes 16 and 17; see
+    /// Whether close decisions (checker borders, two objects at one depth,
+    /// shadow rays near a tangent) are retaken from the exact ray (fixes 16
+    /// to 18; see
     /// [`Scene::set_exact_retakes`]). Not baked, not parsed.
     pub(crate) exact_retake: bool,
 }
@@ -829,10 +830,13 @@ impl<S: Scalar> Scene<S> {
 
     /// Whether Q16.16 takes its close decisions again from the exact ray:
     /// a hit within 2⁻¹⁰ of a checker border its cells
-    /// ([`Object::in_dark_square_of`], fix 16), and two objects met within
-    /// 2⁻⁸ of each other their order (`Scene::nearer_exact`, fix 17). On by
-    /// default; off, every hit keeps its rounded point's cells
-    /// ([`Object::in_dark_square`]) and the nearest hit its rounded t, as a
+    /// ([`Object::in_dark_square_of`], fix 16), two objects met within
+    /// 2⁻⁸ of each other their order (`Scene::nearer_exact`, fix 17), and a
+    /// shadow ray near a blocker's tangent, rim or edge its decision from
+    /// the exact hit point (`Object::blocks`, fix 18). On by default; off,
+    /// every hit keeps its rounded point's cells
+    /// ([`Object::in_dark_square`]), the nearest hit its rounded t and a
+    /// shadow ray its rounded start, as a
     /// build with the feature `no-exact-retakes` (the micro:bit's) always
     /// does. For the host to render as the micro:bit does (its firmware
     /// test); f32 never retakes.
