@@ -1,8 +1,10 @@
-//! A pinhole pixel's shadow rays against float64: `shadow_truth FILE COL ROW`
-//! (160x120). For each light and object, the shadow decision and its
-//! margins (object units) and hit t in float64, once from Q16.16's start
-//! point (its hit point rounded to 2⁻¹⁶) and once from the exact one: where
-//! they differ, the start point decides.
+//! A pinhole pixel's shadow rays against float64: `shadow_truth FILE COL ROW
+//! [X Y Z]` (160x120). For each light and object, the shadow decision and
+//! its margins (object units) and hit t in float64, once from Q16.16's start
+//! point and once from the exact one: where they differ, the start point
+//! decides. Q16.16's P is the exact eye plus the chief direction times its
+//! rounded t, rounded to 2⁻¹⁶, or `X Y Z` where given (the renderer's own P
+//! also rounds the eye: see docs/accuracy.md, fix 18).
 use lensray::{CameraSample, Scalar, Scene, I16F16};
 use lensray_host::reference64::Scene64;
 
@@ -25,7 +27,7 @@ fn main() {
     let (j, h64) = px.hit.expect("an f64 hit");
     let t = hit.t.to_f64();
     let q16 = |x: f64| (x * 65536.0).round() / 65536.0;
-    // Q16.16's P as `along_dir` rounds it (its direction exact to 2^-30).
+    // Q16.16's P near as `along_dir` rounds it, or as given.
     let pq = if a.len() >= 6 {
         [3, 4, 5].map(|k| a[k].parse::<f64>().unwrap())
     } else {

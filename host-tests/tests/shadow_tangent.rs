@@ -1,10 +1,12 @@
 //! Shadow rays near a tangent, every bounded shape as the blocker: whether
-//! Q16.16 lights a point against float64 (`lensray_host::reference64`) for
-//! the very camera ray Q16.16 holds, on rays whose origin sits a few Q16.16
+//! Q16.16 lights a one-pixel camera's hit against float64
+//! (`lensray_host::reference64`) for the same camera, its eye a few 1e-5
 //! steps from where f64's shadow ray, from the hit on a first object toward
 //! the light, flips from grazing a second object to missing it. Random
 //! pairs (the lit one any shape, the plane included), each small, turned
-//! and stretched. See docs/accuracy.md, fix 18.
+//! and stretched; the light on Q16.16's grid (a light rounded to it is
+//! another error, docs/accuracy.md "What remains"). See docs/accuracy.md,
+//! fix 18.
 
 mod common;
 use common::rng;

@@ -217,7 +217,7 @@ impl<S: Scalar> Scene<S> {
         let (n, outside) = obj.facing_normal(&hit, d);
         // Shadow rays' close decisions taken again from the exact hit (Q16.16,
         // retakes on); built only then (live across the lights, its parts
-        // cost the M3 30 instructions a pixel).
+        // cost the Cortex-M3 31 instructions a pixel on Program 1).
         #[cfg(not(feature = "no-exact-retakes"))]
         let start;
         #[cfg(not(feature = "no-exact-retakes"))]
