@@ -39,7 +39,7 @@ pub fn render_image<S: Scalar + Send + Sync>(
 }
 
 /// [`render_image`] before the scanline filter, every pixel as
-/// [`Renderer::pixel`] has it, and without fixes 16 and 17's exact retakes
+/// [`Renderer::pixel`] has it, and without fixes 16 to 18's exact retakes
 /// (`Scene::set_exact_retakes(false)`): what the micro:bit's build
 /// (features `no-scanline-filter`, `no-spare-floor` and `no-exact-retakes`)
 /// draws of a frame without a survey (`point` under 10, or too small), such

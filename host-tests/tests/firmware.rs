@@ -94,7 +94,7 @@ fn show(o: &Output) -> String {
 
 /// Runs `lensray emulate` and checks its image against the host's render.
 /// The host's render of `run`'s scene in `S`: unfiltered and without the
-/// checker retake for the micro:bit, whose build leaves both out (its flash).
+/// exact retakes for the micro:bit, whose build leaves both out (its flash).
 fn host_render<S: Scalar + Send + Sync>(path: &Path, run: &Run) -> Image {
     let scene = load_scene::<S>(path).unwrap();
     if run.board == "microbit" {

@@ -365,6 +365,81 @@ pub(crate) fn exact_t(
     Some(t)
 }
 
+/// The point `o + t d` of a world ray (`d` held precisely, with the
+/// origin's bits below Q16.16) at 2^-32, for `t` at 2^-30 (an exact
+/// distance, from [`exact_t`]). `None` where the scales do not fit.
+#[cfg(not(feature = "no-exact-retakes"))]
+#[inline(never)]
+fn exact_along(o: [I16F16; 3], d: &FixedDir, t: i64) -> Option<[i64; 3]> {
+    // D t at 2^-32 is m t 2^(e + 2): t split at 2^-16 keeps each product below 2^62.
+    let sh = -(d.e as i32) - 16;
+    if !(0..=48).contains(&sh) || t.unsigned_abs() >= 1 << 45 || d.m.iter().any(|m| m.unsigned_abs() >= 1 << 31) {
+        return None;
+    }
+    let (th, tl) = (t >> 14, t & ((1 << 14) - 1));
+    Some(core::array::from_fn(|i| {
+        let m = d.m[i];
+        let far = if sh == 0 {
+            mul_once(m, th)
+        } else {
+            shr_round_call(mul_once(m, th), sh as u32)
+        };
+        ((o[i].to_bits() as i64) << 16) + d.o_lo[i] as i64 + far + shr_round_call(mul_once(m, tl), sh as u32 + 14)
+    }))
+}
+
+/// A point at 2^-32 as its nearest Q16.16 value and the rest below it
+/// (-2^15 to 2^15 at 2^-32); `None` beyond the range.
+#[cfg(not(feature = "no-exact-retakes"))]
+fn split32(x: i64) -> Option<(I16F16, i16)> {
+    let q = (x + (1 << 15)) >> 16;
+    Some((I16F16::from_bits(i32::try_from(q).ok()?), (x - (q << 16)) as i16))
+}
+
+/// A hit's point `o + t d` from its exact distance (`Kernels::exact_hit_point`),
+/// rounded once to Q16.16: at grazing the rounded t of a bounded shape is
+/// off by its object-space rounding over the slope (1e-4 at a slope of
+/// 0.1), which moved a shadow ray's start past its tangent.
+#[cfg(not(feature = "no-exact-retakes"))]
+#[cold]
+#[inline(never)]
+pub(crate) fn exact_hit_point(o: [I16F16; 3], d: &FixedDir, t: i64) -> Option<[I16F16; 3]> {
+    let p = exact_along(o, d, t)?;
+    Some([split32(p[0])?.0, split32(p[1])?.0, split32(p[2])?.0])
+}
+
+/// A shadow ray's line from the exact hit (`Kernels::shadow_line`): the hit
+/// point `P = o + t d` of the world ray at 2^-32 ([`exact_along`]), the
+/// start `P + n ε` (ε times the Q16.16 normal, exact at 2^-32) rounded to
+/// Q16.16 with its bits below as the direction's `o_lo`, and the direction
+/// the exact vector `light − P` at 2^-30: Q16.16's P, rounded to 2^-16 a
+/// component, put a shadow ray 4.4e-6 from tangent to a cylinder on the
+/// other side (seeds 5116, 12124). `None` where the scales do not fit.
+#[cfg(not(feature = "no-exact-retakes"))]
+#[cold]
+#[inline(never)]
+pub(crate) fn shadow_line(
+    o: [I16F16; 3],
+    d: &FixedDir,
+    t: i64,
+    (n, eps): ([I16F16; 3], I16F16),
+    light: [I16F16; 3],
+) -> Option<([I16F16; 3], FixedDir)> {
+    let p = exact_along(o, d, t)?;
+    let (mut v, mut start, mut lo) = ([0i64; 3], [I16F16::ZERO; 3], [0i16; 3]);
+    for i in 0..3 {
+        v[i] = ((light[i].to_bits() as i64) << 16) - p[i];
+        (start[i], lo[i]) = split32(p[i] + mul_i32(n[i].to_bits(), eps.to_bits()))?;
+    }
+    // At 2^-30 (|v| below 2 keeps g at 30, the finest `fine_point` takes).
+    let mut dir = FixedDir::from_i64(v.map(|x| shr_round_call(x, 2)), -30);
+    if dir.m == [0; 3] {
+        return None;
+    }
+    dir.o_lo = lo;
+    Some((start, dir))
+}
+
 /// One axis of `o 2^g + m s` (with `o`'s bits below Q16.16, `o_lo` at
 /// 2^-32) as its part at 2^-16 and the g bits below (`None` past the i32
 /// range); out of line: the M0's flash.

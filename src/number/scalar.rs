@@ -287,6 +287,32 @@ mod kernels {
             None
         }
 
+        /// The point `o + t d` of the world ray (`d` held precisely) at its
+        /// exact distance `t` (at 2^-30 world units, from
+        /// [`Kernels::exact_t`]), rounded once (`q16::exact_hit_point`).
+        /// `None` where the type has no such kernel (f32) or the scales do
+        /// not fit.
+        fn exact_hit_point(_o: [Self; 3], _d: &Self::Dir, _t: i64) -> Option<[Self; 3]> {
+            None
+        }
+
+        /// A shadow ray's line taken again from the exact hit
+        /// (`q16::shadow_line`): the world ray `o + t d` (`d` held precisely)
+        /// hit at `t` (at 2^-30 world units, from [`Kernels::exact_t`]), the
+        /// start `P + n ε` and the direction `light − P` from the exact `P`,
+        /// as the start rounded to `Self` and a precise direction carrying its
+        /// bits below. `None` where the type has no such kernel (f32, whose
+        /// shadow rays stay as they were) or the scales do not fit.
+        fn shadow_line(
+            _o: [Self; 3],
+            _d: &Self::Dir,
+            _t: i64,
+            _offset: ([Self; 3], Self),
+            _light: [Self; 3],
+        ) -> Option<([Self; 3], Self::Dir)> {
+            None
+        }
+
         /// The empty accumulator.
         fn acc_zero() -> Self::Acc;
         /// `acc + x`.

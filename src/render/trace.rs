@@ -8,7 +8,9 @@ use crate::number::Scalar;
 use crate::render::cull::LensCones;
 use crate::render::defocus::Defocus;
 use crate::scene::shape::Shape;
-use crate::scene::{Hit, Scene};
+#[cfg(not(feature = "no-exact-retakes"))]
+use crate::scene::ShadowStart;
+use crate::scene::{Hit, Scene, ShadowFrom};
 
 impl<S: Scalar> Scene<S> {
     /// The nearest object hit by the ray `o + t d` (unit `d`) with `t_min < t`.
@@ -136,13 +138,24 @@ impl<S: Scalar> Scene<S> {
     }
 
     /// Whether anything but object `skip` (if given) lies on the shadow ray
-    /// from `o` to `o + v` (`d` its unit direction, `dist` its length) within
-    /// `t_min < t < dist` (see `Object::blocks`).
-    fn shadowed(&self, o: Vec3<S>, d: Vec3<S>, v: Vec3<S>, dist: S, t_min: S, skip: Option<usize>) -> bool {
+    /// from `o` along `v` (`d` its unit direction, `dist` its length) within
+    /// `t_min < t < dist` (see `Object::blocks`; `from` its start for the
+    /// retakes).
+    #[allow(clippy::too_many_arguments)]
+    fn shadowed(
+        &self,
+        o: Vec3<S>,
+        d: Vec3<S>,
+        v: Vec3<S>,
+        dist: S,
+        t_min: S,
+        skip: Option<usize>,
+        from: ShadowFrom<'_, S>,
+    ) -> bool {
         self.objects
             .iter()
             .enumerate()
-            .any(|(i, obj)| Some(i) != skip && obj.blocks(o, d, v, dist, t_min))
+            .any(|(i, obj)| Some(i) != skip && obj.blocks(o, d, v, dist, t_min, from))
     }
 
     /// The colour seen along the ray `o + t d` (unit `d`), unclamped.
@@ -202,6 +215,35 @@ impl<S: Scalar> Scene<S> {
         // across a plane 1e-3 away: seed 15233).
         let p = S::along_dir(o.to_array(), &precise, hit.t).map_or_else(|| o + d.scale(hit.t), Vec3::from_array);
         let (n, outside) = obj.facing_normal(&hit, d);
+        // Shadow rays' close decisions taken again from the exact hit (Q16.16,
+        // retakes on); built only then (live across the lights, its parts
+        // cost the Cortex-M3 31 instructions a pixel on Program 1).
+        #[cfg(not(feature = "no-exact-retakes"))]
+        let start;
+        #[cfg(not(feature = "no-exact-retakes"))]
+        let (p, from) = if self.shadows && S::RECHECK && self.exact_retakes() {
+            // At grazing (a slope under 1/4) a bounded shape's rounded t is off
+            // by its object-space rounding over the slope and moves P along the
+            // ray (1e-4: a shadow ray's start past a tangent): P at the exact t.
+            let p = if obj.shape != Shape::Plane && n.dot_inline(d) > S::from_q15(-8192) {
+                obj.exact_hit_point(&hit, o, &precise).unwrap_or(p)
+            } else {
+                p
+            };
+            start = ShadowStart {
+                obj,
+                hit: &hit,
+                o,
+                d: &precise,
+                p,
+                n,
+            };
+            (p, Some(&start))
+        } else {
+            (p, None)
+        };
+        #[cfg(feature = "no-exact-retakes")]
+        let from = core::marker::PhantomData;
         // Every shape is convex: a shadow ray leaving the lit side of its own
         // surface never meets it again, so it is not tested (at a large
         // object's magnitudes no fixed offset clears Q16.16's rounding). Seen
@@ -245,7 +287,7 @@ impl<S: Scalar> Scene<S> {
             // Along P's own vector to the light, from just above P: the ray the
             // algorithm casts (aimed from p_shadow, it passed a blocker near the
             // light 1e-3 aside of f32's and flipped a shadow edge's pixels).
-            if self.shadows && self.shadowed(p_shadow, l, to_light, dist, S::HIT_EPSILON, own) {
+            if self.shadows && self.shadowed(p_shadow, l, to_light, dist, S::HIT_EPSILON, own, from) {
                 continue;
             }
             let r = n.scale(n_dot_l.add(n_dot_l)) - l;

@@ -428,9 +428,19 @@ impl<S: Scalar> Object<S> {
     /// this object with `t_min < t < dist`. With `Kernels::SHADOW_PRECISE_DIR`, a bounded shape
     /// takes its object-space direction and re-origin from `v` itself: the
     /// rounded `d` (2⁻¹⁷ a component) put a blocker 150 units on 1e-3 aside.
+    /// A close decision (`Kernels::RECHECK`) is taken again on the exact
+    /// line: from `from`'s exact hit where given (`ShadowStart`), else from `o`.
     // Not inlined: its locals stay out of the shading frame (the M0's 8 KiB of stack).
     #[inline(never)]
-    pub(crate) fn blocks(&self, o: Vec3<S>, d: Vec3<S>, v: Vec3<S>, dist: S, t_min: S) -> bool {
+    pub(crate) fn blocks(
+        &self,
+        o: Vec3<S>,
+        d: Vec3<S>,
+        v: Vec3<S>,
+        dist: S,
+        t_min: S,
+        from: ShadowFrom<'_, S>,
+    ) -> bool {
         if !S::SHADOW_PRECISE_DIR || self.shape == Shape::Plane {
             return self.intersect(o, d, t_min, dist).is_some();
         }
@@ -467,7 +477,10 @@ impl<S: Scalar> Object<S> {
                 return h.is_some();
             }
             again = false;
-            match self.closest_origin(o, &S::dir_from(v.to_array()), dist, (lo, ld, base), by_len, k) {
+            // From the exact hit where the retakes are on (seeds 5116, 12124:
+            // Q16.16's start, rounded to 2⁻¹⁶, was on the other side of a tangent).
+            let (o, line) = retake_line(from, o, v);
+            match self.closest_origin(o, &line, dist, (lo, ld, base), by_len, k) {
                 Some(p) => (lo, base, rim) = p,
                 None => return h.is_some(),
             }
@@ -614,6 +627,17 @@ impl<S: Scalar> Object<S> {
             .exact_t(o, d, hit.t, (hit.local.p, hit.local.n), self.surface(hit))
     }
 
+    /// A hit's point on the world ray `o + t d` (`d` held precisely) at its
+    /// t taken again from the exact ray (`Kernels::exact_hit_point`),
+    /// rounded once; `None` where the type has no such kernel (f32).
+    #[cfg(not(feature = "no-exact-retakes"))]
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn exact_hit_point(&self, hit: &Hit<S>, o: Vec3<S>, d: &S::Dir) -> Option<Vec3<S>> {
+        let t = self.exact_t(hit, o, d)?;
+        S::exact_hit_point(o.to_array(), d, t).map(Vec3::from_array)
+    }
+
     /// [`Object::exact_t`] for a hit of [`Object::intersect`]'s ray `o + t d`
     /// (`d` as rounded: the property test's).
     pub fn exact_t_along(&self, hit: &Hit<S>, o: Vec3<S>, d: Vec3<S>) -> Option<i64> {
@@ -673,6 +697,58 @@ pub struct Hit<S> {
     pub local: crate::scene::shape::LocalHit<S>,
 }
 
+/// Where a shadow ray leaves from, for its close decisions to be taken
+/// again from the exact hit (`Object::blocks`): the hit `hit` on `obj` of
+/// the world ray `o + t d` (`d` held precisely), its rounded point `p` and
+/// the normal `n` the start is offset along.
+#[cfg(not(feature = "no-exact-retakes"))]
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct ShadowStart<'a, S: Scalar> {
+    pub(crate) obj: &'a Object<S>,
+    pub(crate) hit: &'a Hit<S>,
+    pub(crate) o: Vec3<S>,
+    pub(crate) d: &'a S::Dir,
+    pub(crate) p: Vec3<S>,
+    pub(crate) n: Vec3<S>,
+}
+
+/// What a shadow ray carries for its retakes: the start, if they are on;
+/// nothing on the micro:bit (feature `no-exact-retakes`: its code as before).
+#[cfg(not(feature = "no-exact-retakes"))]
+pub(crate) type ShadowFrom<'a, S> = Option<&'a ShadowStart<'a, S>>;
+/// See above.
+#[cfg(feature = "no-exact-retakes")]
+pub(crate) type ShadowFrom<'a, S> = core::marker::PhantomData<&'a S>;
+
+#[cfg(not(feature = "no-exact-retakes"))]
+impl<S: Scalar> ShadowStart<'_, S> {
+    /// The shadow ray toward `p + v` (the light) from the exact hit: its
+    /// start rounded with the bits below carried, and its direction
+    /// (`Kernels::shadow_line`); `None` where the kernels have no answer.
+    #[cold]
+    #[inline(never)]
+    fn exact_line(&self, v: Vec3<S>) -> Option<(Vec3<S>, S::Dir)> {
+        let t = self.obj.exact_t(self.hit, self.o, self.d)?;
+        let light = (self.p + v).to_array();
+        S::shadow_line(self.o.to_array(), self.d, t, (self.n.to_array(), S::HIT_EPSILON), light)
+            .map(|(s, d)| (Vec3::from_array(s), d))
+    }
+}
+
+/// The line a shadow ray's close decision is taken again on: the exact
+/// one from `from`'s hit where it is given and has one, else the ray's
+/// own, from `o` along `v`.
+#[inline(always)]
+fn retake_line<S: Scalar>(from: ShadowFrom<'_, S>, o: Vec3<S>, v: Vec3<S>) -> (Vec3<S>, S::Dir) {
+    #[cfg(not(feature = "no-exact-retakes"))]
+    if let Some(line) = from.and_then(|s| s.exact_line(v)) {
+        return line;
+    }
+    #[cfg(feature = "no-exact-retakes")]
+    let _ = from;
+    (o, S::dir_from(v.to_array()))
+}
+
 /// Largest factor by which the linear part stretches a vector (its top
 /// singular value): the square root of AᵀA's largest eigenvalue, by the
 /// closed form for symmetric 3×3 matrices. Set-up only.
@@ -729,8 +805,9 @@ pub struct Scene<S: Scalar> {
     pub(crate) objects: heapless::Vec<Object<S>, MAX_OBJECTS>,
     /// The point lights, in file order (see [`Scene::lights`]).
     pub(crate) lights: heapless::Vec<Light<S>, MAX_LIGHTS>,
-    /// Whether close decisions (checker borders, two objects at one depth)
-    /// are retaken from the exact ray (fixes 16 and 17; see
+    /// Whether close decisions (checker borders, two objects at one depth,
+    /// shadow rays near a tangent) are retaken from the exact ray (fixes 16
+    /// to 18; see
     /// [`Scene::set_exact_retakes`]). Not baked, not parsed.
     pub(crate) exact_retake: bool,
 }
@@ -753,10 +830,13 @@ impl<S: Scalar> Scene<S> {
 
     /// Whether Q16.16 takes its close decisions again from the exact ray:
     /// a hit within 2⁻¹⁰ of a checker border its cells
-    /// ([`Object::in_dark_square_of`], fix 16), and two objects met within
-    /// 2⁻⁸ of each other their order (`Scene::nearer_exact`, fix 17). On by
-    /// default; off, every hit keeps its rounded point's cells
-    /// ([`Object::in_dark_square`]) and the nearest hit its rounded t, as a
+    /// ([`Object::in_dark_square_of`], fix 16), two objects met within
+    /// 2⁻⁸ of each other their order (`Scene::nearer_exact`, fix 17), and a
+    /// shadow ray near a blocker's tangent, rim or edge its decision from
+    /// the exact hit point (`Object::blocks`, fix 18). On by default; off,
+    /// every hit keeps its rounded point's cells
+    /// ([`Object::in_dark_square`]), the nearest hit its rounded t and a
+    /// shadow ray its rounded start, as a
     /// build with the feature `no-exact-retakes` (the micro:bit's) always
     /// does. For the host to render as the micro:bit does (its firmware
     /// test); f32 never retakes.

@@ -1,0 +1,323 @@
+//! Shadow rays near a tangent, every bounded shape as the blocker: whether
+//! Q16.16 lights a one-pixel camera's hit against float64
+//! (`lensray_host::reference64`) for the same camera, its eye a few 1e-5
+//! steps from where f64's shadow ray, from the hit on a first object toward
+//! the light, flips from grazing a second object to missing it. Random
+//! pairs (the lit one any shape, the plane included), each small, turned
+//! and stretched; the light on Q16.16's grid (a light rounded to it is
+//! another error, docs/accuracy.md "What remains"). See docs/accuracy.md,
+//! fix 18.
+
+mod common;
+use common::rng;
+use lensray::{CameraSample, Scene, Shape, I16F16};
+use lensray_host::reference64::Scene64;
+
+const SHAPES: [Shape; 5] = [Shape::Sphere, Shape::Cube, Shape::Cylinder, Shape::Cone, Shape::Plane];
+
+/// An object's statements: scaled 0.2 to 1.5 per axis, turned twice, moved by `t`.
+fn object_text(shape: Shape, (s, turns): ([f64; 3], [(usize, f64); 2]), t: [f64; 3]) -> String {
+    let names = ["x", "y", "z"];
+    format!(
+        "object {}\ntotal_transformation 4\nscale {} {} {}\nrotate {} {}\nrotate {} {}\ntranslate {} {} {}\n",
+        shape.name(),
+        s[0],
+        s[1],
+        s[2],
+        names[turns[0].0],
+        turns[0].1,
+        names[turns[1].0],
+        turns[1].1,
+        t[0],
+        t[1],
+        t[2]
+    )
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn unit(v: [f64; 3]) -> [f64; 3] {
+    let l = dot(v, v).sqrt();
+    v.map(|x| x / l)
+}
+
+/// To 4 decimals, as the scene text holds it.
+fn dec4(x: f64) -> f64 {
+    (x * 10_000.0).round() / 10_000.0
+}
+
+/// A point on the surface of the scene's only object: the hit of a ray from
+/// 10 away aimed within 0.3 of its centre `c` (`None` for a miss).
+fn surface_point(s64: &Scene64, c: [f64; 3], r: &mut impl FnMut() -> f64) -> Option<[f64; 3]> {
+    let u = unit([r() - 0.5, r() - 0.5, r() - 0.5]);
+    let aim = [0, 1, 2].map(|i| c[i] + 0.3 * (r() - 0.5));
+    let o = [0, 1, 2].map(|i| aim[i] + 10.0 * u[i]);
+    let d = unit([0, 1, 2].map(|i| aim[i] - o[i]));
+    let h = s64.objects[0].hit(o, d, 1e-9, f64::INFINITY)?;
+    Some([0, 1, 2].map(|i| o[i] + h.t * d[i]))
+}
+
+/// A line grazing the scene's only object (at the origin): direction `u`,
+/// through `c w` with `w` across it, `c` where f64 flips from meeting the
+/// object to missing it (a tangent, a rim or an edge).
+fn grazing_line(s64: &Scene64, r: &mut impl FnMut() -> f64) -> ([f64; 3], [f64; 3]) {
+    let u = unit([r() - 0.5, r() - 0.5, r() - 0.5]);
+    let a = unit([r() - 0.5, r() - 0.5, r() - 0.5]);
+    let w = unit([0, 1, 2].map(|i| a[i] - dot(a, u) * u[i]));
+    let meets = |c: f64| {
+        let o = [0, 1, 2].map(|i| c * w[i] - 30.0 * u[i]);
+        s64.objects[0].hit(o, u, 0.0, 60.0).is_some()
+    };
+    let (mut lo, mut hi) = (0.0, 10.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if meets(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (u, w.map(|x| x * lo))
+}
+
+/// f64's shadow decision on the hit of the camera ray `o + t d` on object
+/// 0 with the scene's one light: whether it is lit, how far the shadow ray
+/// passes from flipping on the blocker (object units: the smaller of its
+/// [`Margin`](lensray_host::reference64::Margin)s), and for a cube the
+/// smallest slope of the ray to a face (its unit object-space direction's
+/// smallest component; 1 for the other shapes). `None` where the ray meets
+/// another object first, nothing, or the light is behind or nearly along
+/// the surface.
+fn shadow64(s64: &Scene64, light: [f64; 3], o: [f64; 3], d: [f64; 3]) -> Option<(bool, f64, f64)> {
+    let eps = 1.0 / 1024.0;
+    let (i, h) = s64.closest(o, d, eps)?;
+    if i != 0 {
+        return None;
+    }
+    let obj = &s64.objects[0];
+    let p = [0, 1, 2].map(|k| o[k] + h.t * d[k]);
+    let mut n = unit(obj.to_object.linear_transpose().apply(h.n, false));
+    if dot(n, d) > 0.0 {
+        n = n.map(|x| -x);
+    }
+    let to = [0, 1, 2].map(|k| light[k] - p[k]);
+    let dist = dot(to, to).sqrt();
+    let l = to.map(|x| x / dist);
+    if dot(n, l) < 0.05 {
+        return None;
+    }
+    let ps = [0, 1, 2].map(|k| p[k] + n[k] * eps);
+    let blocker = &s64.objects[1];
+    let m = blocker.margin(ps, l);
+    let slope = if blocker.shape == Shape::Cube {
+        unit(blocker.to_object.apply(l, false))
+            .iter()
+            .fold(1.0f64, |a, x| a.min(x.abs()))
+    } else {
+        1.0
+    };
+    Some((blocker.hit(ps, l, eps, dist).is_none(), m.hit.abs().min(m.face), slope))
+}
+
+/// A one-pixel pinhole camera at `eye` (6 decimals) looking along `look`:
+/// its chief ray, Q16.16's camera ray with the eye's bits below carried.
+fn camera(eye: [f64; 3], look: [f64; 3]) -> String {
+    let up = if look[1].abs() > 0.9 * dot(look, look).sqrt() {
+        "1 0 0"
+    } else {
+        "0 1 0"
+    };
+    format!(
+        "image_distance 8\nwidth 1\naspect_ratio 1\nlens_position {:.6} {:.6} {:.6}\nlook {:.6} {:.6} {:.6}\nup {up}\n",
+        eye[0], eye[1], eye[2], look[0], look[1], look[2]
+    )
+}
+
+/// Whether Q16.16 lights its one pixel's hit (`None` where its camera ray
+/// meets another object first or nothing: the shadow is the question).
+fn lit_q16(scene: &Scene<I16F16>) -> Option<bool> {
+    let rend = lensray::Renderer::new(scene, 1, 1);
+    let ray = rend.camera().generate_ray(&CameraSample {
+        film: &rend.camera().film_point(0, 0),
+        lens: None,
+    });
+    if scene.closest_hit_camera_ray(&ray, rend.cones())?.0 != 0 {
+        return None;
+    }
+    Some(
+        scene
+            .trace_camera_ray(&ray, rend.cones())
+            .to_f64()
+            .iter()
+            .any(|&x| x > 0.0),
+    )
+}
+
+/// Object units within which f64's shadow decision may flip for the
+/// objects' stored rows alone: 30 significant bits an entry
+/// (`Kernels::row_from_f64`) put a world point 100 away 1e-7 off f64's,
+/// and a blocker scaled by 0.2 has that five times in its own units.
+const ROWS: f64 = 1e-6;
+/// A cube's face met by the shadow ray at a slope under this: the first
+/// pass's decision there rests on the rounded object-space direction
+/// (2⁻¹⁷ over the slope, in t) and may not be flagged (docs/accuracy.md,
+/// fix 18, "What remains").
+const FACE: f64 = 1.0 / 32.0;
+
+/// What [`disagreements`] counts.
+struct Counts {
+    rays: usize,
+    /// Q16.16 unlike f64 with the retakes on and off.
+    wrong_on: usize,
+    wrong_off: usize,
+    /// Of `wrong_on`: within [`ROWS`], along a cube's face ([`FACE`]), neither.
+    rows: usize,
+    face: usize,
+    unexplained: usize,
+    cases: Vec<String>,
+}
+
+/// Rays, and Q16.16's light unlike f64's with the retakes on and off, over
+/// `cases` random pairs: the camera's eye stepped 1e-5 at a time (its bits
+/// below Q16.16 carried) across the place where f64's shadow ray flips
+/// between grazing the blocker and missing it, 3 steps either side.
+fn disagreements(cases: usize) -> Counts {
+    let mut r = rng(0x5AAD_0E7A_16E7_0001);
+    let (mut rays, mut wrong_on, mut wrong_off, mut rows, mut face, mut unexplained) = (0, 0, 0, 0, 0, 0);
+    let mut cases_wrong = Vec::new();
+    for case in 0..cases {
+        let (a, b) = (SHAPES[(r() * 5.0) as usize], SHAPES[(r() * 4.0) as usize]);
+        let mut form = || {
+            let s = [0, 1, 2].map(|_| dec4(0.2 + 1.3 * r()));
+            let turn = |r: &mut dyn FnMut() -> f64| ((r() * 3.0) as usize, dec4(r() * 360.0));
+            (s, [turn(&mut r), turn(&mut r)])
+        };
+        let (fa, fb) = (form(), form());
+        // The blocker anywhere within 30, a line grazing it, the lit point 2 to
+        // 7 before it on the line and the light 5 to 55 beyond.
+        let tb = [0, 1, 2].map(|_| dec4((r() - 0.5) * 60.0));
+        let (u, c) = grazing_line(&Scene64::parse(&object_text(b, fb, [0.0; 3])), &mut r);
+        let (before, beyond) = (2.0 + 5.0 * r(), 5.0 + 50.0 * r());
+        let p = [0, 1, 2].map(|i| tb[i] + c[i] - before * u[i]);
+        // On Q16.16's grid: a light rounded to it moves the line by up to 7.6e-6.
+        let light = [0, 1, 2].map(|i| ((tb[i] + c[i] + beyond * u[i]) * 65536.0).round() / 65536.0);
+        // The lit object moved so that its surface passes near p.
+        let Some(w) = surface_point(&Scene64::parse(&object_text(a, fa, [0.0; 3])), [0.0; 3], &mut r) else {
+            continue;
+        };
+        let ta = [0, 1, 2].map(|i| dec4(p[i] - w[i]));
+        let objects = format!(
+            "shadows on\nlight_position {:.16} {:.16} {:.16}\n{}{}",
+            light[0],
+            light[1],
+            light[2],
+            object_text(a, fa, ta),
+            object_text(b, fb, tb)
+        );
+        // The eye 20 to 120 from p, looking at it, stepped along one axis.
+        let back = unit([r() - 0.5, r() - 0.5, r() - 0.5]);
+        let far = 20.0 + 100.0 * r();
+        let axis = (r() * 3.0) as usize;
+        let eye0 = [0, 1, 2].map(|i| ((p[i] + back[i] * far) * 1e6).round() / 1e6);
+        let look = [0, 1, 2].map(|i| p[i] - eye0[i]);
+        let text = |k: i64| {
+            let mut eye = eye0;
+            eye[axis] += k as f64 * 1e-5;
+            format!("{}{objects}", camera(eye, look))
+        };
+        let shadow = |k: i64| {
+            let s64 = Scene64::parse(&text(k));
+            shadow64(&s64, light, s64.camera.lens_position, s64.chief_dir(0, 0, 1, 1))
+        };
+        let lit = |k: i64| shadow(k).map(|s| s.0);
+        // f64's light flips within 0.02 either side.
+        let (mut lo, mut hi) = (-2000i64, 2000i64);
+        let first = lit(lo);
+        if first.is_none() || lit(hi).is_none() || first == lit(hi) {
+            continue;
+        }
+        while hi - lo > 1 {
+            let mid = (lo + hi) / 2;
+            match lit(mid) {
+                x if x == first => lo = mid,
+                Some(_) => hi = mid,
+                None => break,
+            }
+        }
+        if hi - lo > 1 {
+            continue;
+        }
+        for k in lo - 3..=hi + 3 {
+            let Some((truth, margin, slope)) = shadow(k) else {
+                continue;
+            };
+            let on = Scene::<I16F16>::parse(&text(k)).expect("parse");
+            let mut off = on.clone();
+            off.set_exact_retakes(false);
+            let (Some(q_on), Some(q_off)) = (lit_q16(&on), lit_q16(&off)) else {
+                continue;
+            };
+            rays += 1;
+            wrong_off += usize::from(q_off != truth);
+            if q_on != truth {
+                wrong_on += 1;
+                // Closer than the stored rows hold the line, or along a cube's face.
+                let why = if margin < ROWS {
+                    rows += 1;
+                    "within the rows' error"
+                } else if slope < FACE {
+                    face += 1;
+                    "along a cube's face"
+                } else {
+                    unexplained += 1;
+                    "unexplained"
+                };
+                cases_wrong.push(format!(
+                    "case {case}: {a:?} lit, {b:?} blocking, step {k} of {lo}..{hi}: f64 lit {truth}, margin {margin:.1e}, slope {slope:.1e}: {why}"
+                ));
+            }
+        }
+    }
+    Counts {
+        rays,
+        wrong_on,
+        wrong_off,
+        rows,
+        face,
+        unexplained,
+        cases: cases_wrong,
+    }
+}
+
+/// Measured on these 1,500 pairs: see docs/accuracy.md, fix 18.
+#[test]
+fn shadow_rays_near_a_tangent_decide_as_f64_does() {
+    let c = disagreements(1500);
+    println!(
+        "{} rays: {} unlike f64 with the retakes ({} within the rows' error, {} along a cube's face), {} without",
+        c.rays, c.wrong_on, c.rows, c.face, c.wrong_off
+    );
+    for line in &c.cases {
+        println!("{line}");
+    }
+    assert!(c.rays > 2000, "{} rays", c.rays);
+    assert!(
+        c.wrong_off * 10 > c.rays,
+        "the rounded start went wrong on {} of {}: the test tests nothing",
+        c.wrong_off,
+        c.rays
+    );
+    assert_eq!(
+        c.unexplained, 0,
+        "{} of {} unlike f64 and unexplained",
+        c.unexplained, c.rays
+    );
+    assert!(
+        c.wrong_on * 200 <= c.rays,
+        "{} of {} unlike f64 with the retakes",
+        c.wrong_on,
+        c.rays
+    );
+}
