@@ -1,4 +1,4 @@
-//! Random-scene sweeps: every generated scene (see [`crate::scenegen`])
+//! Random-scene sweeps: every generated scene (see [`lensray_testkit::scenegen`])
 //! rendered in Q16.16 and in f32, and the distribution of their differences.
 //!
 //! The f32 renderer matches an independent float64 evaluation on most
