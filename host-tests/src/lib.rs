@@ -44,7 +44,7 @@ pub fn render_image<S: Scalar + Send + Sync>(
 /// (features `no-scanline-filter`, `no-spare-floor` and `no-exact-retakes`)
 /// draws of a frame without a survey (`point` under 10, or too small), such
 /// as its tests' frames.
-pub fn render_image_unfiltered<S: Scalar + Send + Sync>(
+pub fn render_image_as_microbit<S: Scalar + Send + Sync>(
     scene: &Scene<S>,
     width: u32,
     height: u32,

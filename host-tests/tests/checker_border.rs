@@ -162,7 +162,7 @@ fn the_micro_bit_reference_renders_without_the_retake() {
     let (w, h) = (160, 120);
     let q16 = lensray_host::load_scene::<I16F16>(&path).unwrap();
     let with = lensray_host::render_image(&q16, w, h, None, &|| {});
-    let without = lensray_host::render_image_unfiltered(&q16, w, h, None);
+    let without = lensray_host::render_image_as_microbit(&q16, w, h, None);
     let mut off = q16.clone();
     off.set_exact_retakes(false);
     let off = lensray_host::render_image(&off, w, h, None, &|| {});
@@ -172,7 +172,7 @@ fn the_micro_bit_reference_renders_without_the_retake() {
     let f = lensray_host::load_scene::<f32>(&path).unwrap();
     let (a, b) = (
         lensray_host::render_image(&f, w, h, None, &|| {}),
-        lensray_host::render_image_unfiltered(&f, w, h, None),
+        lensray_host::render_image_as_microbit(&f, w, h, None),
     );
     assert_eq!(a.pixels, b.pixels, "f32 never retakes");
     println!("seed 16044 at {w}x{h}: {differ} pixels retaken");

@@ -17,7 +17,7 @@ use std::process::{Command, Output};
 use std::time::Instant;
 
 use lensray::{Scalar, I16F16};
-use lensray_host::{load_image, load_scene, render_image, render_image_unfiltered, Image};
+use lensray_host::{load_image, load_scene, render_image, render_image_as_microbit, Image};
 
 const LENSRAY: &str = env!("CARGO_BIN_EXE_lensray");
 
@@ -98,7 +98,7 @@ fn show(o: &Output) -> String {
 fn host_render<S: Scalar + Send + Sync>(path: &Path, run: &Run) -> Image {
     let scene = load_scene::<S>(path).unwrap();
     if run.board == "microbit" {
-        render_image_unfiltered(&scene, run.width, run.height, run.samples)
+        render_image_as_microbit(&scene, run.width, run.height, run.samples)
     } else {
         render_image(&scene, run.width, run.height, run.samples, &|| {})
     }
