@@ -7,49 +7,11 @@
 //! first's surface. See docs/accuracy.md, fix 17.
 
 mod common;
-use common::{rng, stored_rows_delta, SteppedRay};
-use lensray::{Scalar, Scene, Shape, Vec3, I16F16};
+use common::{object_text, rng, stored_rows_delta, surface_point, SteppedRay, SHAPES};
+use lensray::{Scalar, Scene, Vec3, I16F16};
 use lensray_host::reference64::{Hit64, Object64, Scene64};
 
-/// xorshift64*: the test's seeded random source, uniform in [0, 1).
-const SHAPES: [Shape; 5] = [Shape::Sphere, Shape::Cube, Shape::Cylinder, Shape::Cone, Shape::Plane];
-
-/// An object's statements: scaled 0.2 to 1.5 per axis, turned twice, moved by `t`.
-fn object_text(shape: Shape, (s, turns): ([f64; 3], [(usize, f64); 2]), t: [f64; 3]) -> String {
-    let names = ["x", "y", "z"];
-    format!(
-        "object {}\ntotal_transformation 4\nscale {} {} {}\nrotate {} {}\nrotate {} {}\ntranslate {} {} {}\n",
-        shape.name(),
-        s[0],
-        s[1],
-        s[2],
-        names[turns[0].0],
-        turns[0].1,
-        names[turns[1].0],
-        turns[1].1,
-        t[0],
-        t[1],
-        t[2]
-    )
-}
-
-fn unit(v: [f64; 3]) -> [f64; 3] {
-    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    v.map(|x| x / l)
-}
-
 const CAMERA: &str = "image_distance 8\nlens_position 0 0 0\nwidth 1\naspect_ratio 1\nlook 0 0 -1\nup 0 1 0\n";
-
-/// A point on the surface of the scene's only object: the hit of a ray from
-/// 10 away aimed within 0.3 of its centre `c` (`None` for a miss).
-fn surface_point(s64: &Scene64, c: [f64; 3], r: &mut impl FnMut() -> f64) -> Option<[f64; 3]> {
-    let u = unit([r() - 0.5, r() - 0.5, r() - 0.5]);
-    let aim = [0, 1, 2].map(|i| c[i] + 0.3 * (r() - 0.5));
-    let o = [0, 1, 2].map(|i| aim[i] + 10.0 * u[i]);
-    let d = unit([0, 1, 2].map(|i| aim[i] - o[i]));
-    let h = s64.objects[0].hit(o, d, 1e-9, f64::INFINITY)?;
-    Some([0, 1, 2].map(|i| o[i] + h.t * d[i]))
-}
 
 /// The world distance by which the exact kernel's t (`q16::exact_t`) may
 /// lie off f64's for the hit `h` of the ray `o + t d` on `o64`: the object's

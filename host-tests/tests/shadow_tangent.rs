@@ -9,54 +9,17 @@
 //! fix 18.
 
 mod common;
-use common::rng;
+use common::{object_text, rng, surface_point, unit, SHAPES};
 use lensray::{CameraSample, Scene, Shape, I16F16};
 use lensray_host::reference64::Scene64;
-
-const SHAPES: [Shape; 5] = [Shape::Sphere, Shape::Cube, Shape::Cylinder, Shape::Cone, Shape::Plane];
-
-/// An object's statements: scaled 0.2 to 1.5 per axis, turned twice, moved by `t`.
-fn object_text(shape: Shape, (s, turns): ([f64; 3], [(usize, f64); 2]), t: [f64; 3]) -> String {
-    let names = ["x", "y", "z"];
-    format!(
-        "object {}\ntotal_transformation 4\nscale {} {} {}\nrotate {} {}\nrotate {} {}\ntranslate {} {} {}\n",
-        shape.name(),
-        s[0],
-        s[1],
-        s[2],
-        names[turns[0].0],
-        turns[0].1,
-        names[turns[1].0],
-        turns[1].1,
-        t[0],
-        t[1],
-        t[2]
-    )
-}
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-fn unit(v: [f64; 3]) -> [f64; 3] {
-    let l = dot(v, v).sqrt();
-    v.map(|x| x / l)
-}
-
 /// To 4 decimals, as the scene text holds it.
 fn dec4(x: f64) -> f64 {
     (x * 10_000.0).round() / 10_000.0
-}
-
-/// A point on the surface of the scene's only object: the hit of a ray from
-/// 10 away aimed within 0.3 of its centre `c` (`None` for a miss).
-fn surface_point(s64: &Scene64, c: [f64; 3], r: &mut impl FnMut() -> f64) -> Option<[f64; 3]> {
-    let u = unit([r() - 0.5, r() - 0.5, r() - 0.5]);
-    let aim = [0, 1, 2].map(|i| c[i] + 0.3 * (r() - 0.5));
-    let o = [0, 1, 2].map(|i| aim[i] + 10.0 * u[i]);
-    let d = unit([0, 1, 2].map(|i| aim[i] - o[i]));
-    let h = s64.objects[0].hit(o, d, 1e-9, f64::INFINITY)?;
-    Some([0, 1, 2].map(|i| o[i] + h.t * d[i]))
 }
 
 /// A line grazing the scene's only object (at the origin): direction `u`,

@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use lensray::{Scene, I16F16};
+use lensray::{Scene, Shape, I16F16};
 use lensray_host::{render_image, Image};
 
 /// The repository's `scenes/` directory.
@@ -118,4 +118,47 @@ pub fn random_placement(r: &mut impl FnMut() -> f64, big: f64) -> String {
         "scale {:.4} {:.4} {:.4}\nrotate {ax} {ang:.4}\nrotate {ax2} {ang2:.4}\ntranslate {:.4} {:.4} {:.4}\n",
         s[0], s[1], s[2], t[0], t[1], t[2]
     )
+}
+
+/// Every shape, for the property tests' random pairs.
+pub const SHAPES: [Shape; 5] = [Shape::Sphere, Shape::Cube, Shape::Cylinder, Shape::Cone, Shape::Plane];
+
+/// An object's statements: scaled 0.2 to 1.5 per axis, turned twice, moved by `t`.
+pub fn object_text(shape: Shape, (s, turns): ([f64; 3], [(usize, f64); 2]), t: [f64; 3]) -> String {
+    let names = ["x", "y", "z"];
+    format!(
+        "object {}\ntotal_transformation 4\nscale {} {} {}\nrotate {} {}\nrotate {} {}\ntranslate {} {} {}\n",
+        shape.name(),
+        s[0],
+        s[1],
+        s[2],
+        names[turns[0].0],
+        turns[0].1,
+        names[turns[1].0],
+        turns[1].1,
+        t[0],
+        t[1],
+        t[2]
+    )
+}
+
+/// `v` over its length.
+pub fn unit(v: [f64; 3]) -> [f64; 3] {
+    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    v.map(|x| x / l)
+}
+
+/// A point on the surface of the scene's only object: the hit of a ray from
+/// 10 away aimed within 0.3 of its centre `c` (`None` for a miss).
+pub fn surface_point(
+    s64: &lensray_host::reference64::Scene64,
+    c: [f64; 3],
+    r: &mut impl FnMut() -> f64,
+) -> Option<[f64; 3]> {
+    let u = unit([r() - 0.5, r() - 0.5, r() - 0.5]);
+    let aim = [0, 1, 2].map(|i| c[i] + 0.3 * (r() - 0.5));
+    let o = [0, 1, 2].map(|i| aim[i] + 10.0 * u[i]);
+    let d = unit([0, 1, 2].map(|i| aim[i] - o[i]));
+    let h = s64.objects[0].hit(o, d, 1e-9, f64::INFINITY)?;
+    Some([0, 1, 2].map(|i| o[i] + h.t * d[i]))
 }
