@@ -473,6 +473,11 @@ impl<S: Scalar> Object<S> {
             let mut close = false;
             let (lt_min, lt_max) = (to_local(t_min.sub(base)), to_local(dist.sub(base)));
             let h = self.shape.intersect_bounded(lo, ld, lt_min, lt_max, &mut close, rim);
+            // A cube's face crossed slowly (its slab times' error over the slope), where the retakes are on.
+            #[cfg(not(feature = "no-exact-retakes"))]
+            if S::RECHECK && again && !close && from.is_some() && self.shape == Shape::Cube {
+                close = shape::cube_crossed_slowly(lo, ld);
+            }
             if !(again && close) {
                 return h.is_some();
             }

@@ -250,6 +250,35 @@ fn cube<S: Scalar>(
     })
 }
 
+/// Whether a cube's meeting or missing the ray `o + t d` (`d` a unit
+/// vector) is in doubt where a face is crossed slowly: the entry and exit
+/// slab times within the band over the slower of their two slopes. A slab
+/// time carries the rounded ray's error over its slope (`d`'s component),
+/// which [`cube`]'s flag in object units does not scale with (a shadow ray
+/// at a slope of 5e-3 to a face: 5e-3 of t). Cold: a shadow ray's retakes
+/// only (`Object::blocks`), never on the micro:bit.
+#[cfg(not(feature = "no-exact-retakes"))]
+#[cold]
+#[inline(never)]
+pub(crate) fn cube_crossed_slowly<S: Scalar>(o: Vec3<S>, d: Vec3<S>) -> bool {
+    let (o, d) = (o.to_array(), d.to_array());
+    let (mut near, mut far) = ((S::MAX.neg(), S::ONE), (S::MAX, S::ONE));
+    for i in 0..3 {
+        let inv = S::ONE.div(d[i]);
+        let ta = S::ONE.neg().sub(o[i]).mul(inv);
+        let tb = S::ONE.sub(o[i]).mul(inv);
+        let (t1, t2) = if ta < tb { (ta, tb) } else { (tb, ta) };
+        if t1 > near.0 {
+            near = (t1, d[i].abs());
+        }
+        if t2 < far.0 {
+            far = (t2, d[i].abs());
+        }
+    }
+    // The gap's error is the object-space error over each slope: at most twice it over the slower.
+    near.0.sub(far.0).abs().mul(near.1.min(far.1)) < close_band()
+}
+
 /// Hit on the cap `y = y_cap` (±1, `code` its `LOW_CAP` or `HIGH_CAP`) of
 /// radius 1, if any. With the exact entry `part`: that cap is met whatever
 /// its rounded radius; the side entered, the cap facing the ray is not.
