@@ -473,9 +473,15 @@ impl<S: Scalar> Object<S> {
             let mut close = false;
             let (lt_min, lt_max) = (to_local(t_min.sub(base)), to_local(dist.sub(base)));
             let h = self.shape.intersect_bounded(lo, ld, lt_min, lt_max, &mut close, rim);
-            // A cube's face crossed slowly (its slab times' error over the slope), where the retakes are on.
+            // A cube's face crossed under a slope of 1/16: its slab times' error over the slope may pass the band.
             #[cfg(not(feature = "no-exact-retakes"))]
-            if S::RECHECK && again && !close && from.is_some() && self.shape == Shape::Cube {
+            if S::RECHECK
+                && again
+                && !close
+                && from.is_some()
+                && self.shape == Shape::Cube
+                && ld.to_array().iter().any(|x| x.abs() < S::from_q15(2048))
+            {
                 close = shape::cube_crossed_slowly(lo, ld);
             }
             if !(again && close) {
