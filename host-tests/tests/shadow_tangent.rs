@@ -73,10 +73,11 @@ fn along_a_face(s64: &Scene64, r: &mut impl FnMut() -> f64) -> [f64; 3] {
 /// smaller of its [`Margin`](lensray_host::reference64::Margin)s, a cube's
 /// times the slope), and for a cube the smallest slope of the ray to a face
 /// (its unit object-space direction's smallest component; 1 for the other
-/// shapes). `None` where the ray meets
+/// shapes), and how far from the segment's end the line meets the blocker
+/// (world units, infinite for no meeting). `None` where the ray meets
 /// another object first, nothing, or the light is behind or nearly along
 /// the surface.
-fn shadow64(s64: &Scene64, light: [f64; 3], o: [f64; 3], d: [f64; 3]) -> Option<(bool, f64, f64)> {
+fn shadow64(s64: &Scene64, light: [f64; 3], o: [f64; 3], d: [f64; 3]) -> Option<(bool, f64, f64, f64)> {
     let eps = 1.0 / 1024.0;
     let (i, h) = s64.closest(o, d, eps)?;
     if i != 0 {
@@ -105,10 +106,14 @@ fn shadow64(s64: &Scene64, light: [f64; 3], o: [f64; 3], d: [f64; 3]) -> Option<
         1.0
     };
     // A cube's margins are times: an offset across the line moves a slab's by itself over the slope.
+    let end = blocker
+        .hit(ps, l, eps, f64::INFINITY)
+        .map_or(f64::INFINITY, |h| (h.t - dist).abs());
     Some((
         blocker.hit(ps, l, eps, dist).is_none(),
         m.hit.abs().min(m.face) * slope,
         slope,
+        end,
     ))
 }
 
@@ -237,7 +242,7 @@ fn disagreements(cases: usize, seed: u64, along_face: bool) -> Counts {
             continue;
         }
         for k in lo - 3..=hi + 3 {
-            let Some((truth, margin, slope)) = shadow(k) else {
+            let Some((truth, margin, slope, _)) = shadow(k) else {
                 continue;
             };
             let on = Scene::<I16F16>::parse(&text(k)).expect("parse");
@@ -316,4 +321,83 @@ fn shadow_rays_near_a_tangent_decide_as_f64_does() {
 #[test]
 fn shadow_rays_along_a_cube_face_decide_as_f64_does() {
     check(&disagreements(600, 0x5AAD_0E7A_16E7_0002, true), 1000);
+}
+
+/// A blocker's surface near the light (docs/accuracy.md "What remains",
+/// not flagged): over `cases` random pairs, the light `delta` beyond or
+/// before where the shadow ray's line enters the blocker, on Q16.16's grid;
+/// rays, and Q16.16's light unlike f64's, by how far from the segment's end
+/// (`light + n ε`) f64's line meets the blocker: under 1e-5, 1e-4, above.
+fn near_the_light(cases: usize) -> (usize, [usize; 3], [usize; 3]) {
+    let mut r = rng(0x5AAD_0E7A_16E7_0003);
+    let (mut rays, mut per, mut wrong) = (0, [0; 3], [0; 3]);
+    for _ in 0..cases {
+        let (a, b) = (SHAPES[(r() * 5.0) as usize], SHAPES[(r() * 4.0) as usize]);
+        let mut form = || {
+            let s = [0, 1, 2].map(|_| dec4(0.2 + 1.3 * r()));
+            let turn = |r: &mut dyn FnMut() -> f64| ((r() * 3.0) as usize, dec4(r() * 360.0));
+            (s, [turn(&mut r), turn(&mut r)])
+        };
+        let (fa, fb) = (form(), form());
+        let tb = [0, 1, 2].map(|_| dec4((r() - 0.5) * 60.0));
+        let Some(w) = surface_point(&Scene64::parse(&object_text(b, fb, [0.0; 3])), [0.0; 3], &mut r) else {
+            continue;
+        };
+        // Into the blocker at q (convex: the line enters there), the lit point 2 to 7 before.
+        let u = unit(w.map(|x| -x));
+        let q = [0, 1, 2].map(|i| tb[i] + w[i]);
+        let before = 2.0 + 5.0 * r();
+        let delta = (if r() < 0.5 { -1.0 } else { 1.0 }) * (1e-6f64.ln() + r() * (1e-3f64.ln() - 1e-6f64.ln())).exp();
+        let p = [0, 1, 2].map(|i| q[i] - before * u[i]);
+        let light = [0, 1, 2].map(|i| ((q[i] + delta * u[i]) * 65536.0).round() / 65536.0);
+        let Some(wa) = surface_point(&Scene64::parse(&object_text(a, fa, [0.0; 3])), [0.0; 3], &mut r) else {
+            continue;
+        };
+        let ta = [0, 1, 2].map(|i| dec4(p[i] - wa[i]));
+        let back = unit([r() - 0.5, r() - 0.5, r() - 0.5]);
+        let far = 20.0 + 100.0 * r();
+        let eye = [0, 1, 2].map(|i| ((p[i] + back[i] * far) * 1e6).round() / 1e6);
+        let look = [0, 1, 2].map(|i| p[i] - eye[i]);
+        let text = format!(
+            "{}shadows on\nlight_position {:.16} {:.16} {:.16}\n{}{}",
+            camera(eye, look),
+            light[0],
+            light[1],
+            light[2],
+            object_text(a, fa, ta),
+            object_text(b, fb, tb)
+        );
+        let s64 = Scene64::parse(&text);
+        let Some((truth, _, _, end)) = shadow64(&s64, light, s64.camera.lens_position, s64.chief_dir(0, 0, 1, 1))
+        else {
+            continue;
+        };
+        let Some(q16) = lit_q16(&Scene::<I16F16>::parse(&text).expect("parse")) else {
+            continue;
+        };
+        let band = if end < 1e-5 {
+            0
+        } else if end < 1e-4 {
+            1
+        } else {
+            2
+        };
+        rays += 1;
+        per[band] += 1;
+        wrong[band] += usize::from(q16 != truth);
+        if q16 != truth {
+            println!("{a:?} lit, {b:?} blocking: the line meets it {end:.2e} from the end, f64 lit {truth}");
+        }
+    }
+    (rays, per, wrong)
+}
+
+/// Measures only: a blocker's hit within Q16.16's error of the light is
+/// not flagged (docs/accuracy.md "What remains").
+#[test]
+#[ignore = "measures an open class (a blocker's surface near the light): prints, asserts only that it ran"]
+fn shadow_rays_ending_near_a_blocker_measured() {
+    let (rays, per, wrong) = near_the_light(3000);
+    println!("{rays} rays; the blocker met from the end under 1e-5, 1e-4, above: {per:?} rays, {wrong:?} unlike f64");
+    assert!(rays > 500, "{rays} rays");
 }
