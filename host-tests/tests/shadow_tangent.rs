@@ -22,6 +22,21 @@ fn dec4(x: f64) -> f64 {
     (x * 10_000.0).round() / 10_000.0
 }
 
+/// An object's scale and two turns (`object_text`'s form), at 4 decimals.
+type Form = ([f64; 3], [(usize, f64); 2]);
+
+/// The lit object's shape (any) and the blocker's (not a plane), then their
+/// forms: scaled 0.2 to 1.5 per axis, turned twice.
+fn lit_and_blocker(r: &mut impl FnMut() -> f64) -> ((Shape, Shape), (Form, Form)) {
+    let shapes = (SHAPES[(r() * 5.0) as usize], SHAPES[(r() * 4.0) as usize]);
+    let mut form = || {
+        let s = [0, 1, 2].map(|_| dec4(0.2 + 1.3 * r()));
+        let mut turn = || ((r() * 3.0) as usize, dec4(r() * 360.0));
+        (s, [turn(), turn()])
+    };
+    (shapes, (form(), form()))
+}
+
 /// A line grazing the scene's only object (at the origin): direction `u`,
 /// through `c w` with `w` across it, `c` where f64 flips from meeting the
 /// object to missing it (a tangent, a rim or an edge). With `face`, `u`
@@ -179,14 +194,8 @@ fn disagreements(cases: usize, seed: u64, along_face: bool) -> Counts {
     let (mut rays, mut wrong_on, mut wrong_off, mut rows, mut unexplained) = (0, 0, 0, 0, 0);
     let mut cases_wrong = Vec::new();
     for case in 0..cases {
-        let (a, b) = (SHAPES[(r() * 5.0) as usize], SHAPES[(r() * 4.0) as usize]);
+        let ((a, b), (fa, fb)) = lit_and_blocker(&mut r);
         let b = if along_face { Shape::Cube } else { b };
-        let mut form = || {
-            let s = [0, 1, 2].map(|_| dec4(0.2 + 1.3 * r()));
-            let turn = |r: &mut dyn FnMut() -> f64| ((r() * 3.0) as usize, dec4(r() * 360.0));
-            (s, [turn(&mut r), turn(&mut r)])
-        };
-        let (fa, fb) = (form(), form());
         // The blocker anywhere within 30, a line grazing it, the lit point 2 to
         // 7 before it on the line and the light 5 to 55 beyond.
         let tb = [0, 1, 2].map(|_| dec4((r() - 0.5) * 60.0));
@@ -332,13 +341,7 @@ fn near_the_light(cases: usize) -> (usize, [usize; 3], [usize; 3]) {
     let mut r = rng(0x5AAD_0E7A_16E7_0003);
     let (mut rays, mut per, mut wrong) = (0, [0; 3], [0; 3]);
     for _ in 0..cases {
-        let (a, b) = (SHAPES[(r() * 5.0) as usize], SHAPES[(r() * 4.0) as usize]);
-        let mut form = || {
-            let s = [0, 1, 2].map(|_| dec4(0.2 + 1.3 * r()));
-            let turn = |r: &mut dyn FnMut() -> f64| ((r() * 3.0) as usize, dec4(r() * 360.0));
-            (s, [turn(&mut r), turn(&mut r)])
-        };
-        let (fa, fb) = (form(), form());
+        let ((a, b), (fa, fb)) = lit_and_blocker(&mut r);
         let tb = [0, 1, 2].map(|_| dec4((r() - 0.5) * 60.0));
         let Some(w) = surface_point(&Scene64::parse(&object_text(b, fb, [0.0; 3])), [0.0; 3], &mut r) else {
             continue;
