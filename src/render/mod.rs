@@ -446,8 +446,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let sigma = root + (root * root < var) as u64;
         let pixels = cols as u128 * rows as u128;
         let unsettled = unsettled + sigma;
-        // 5 (R + N/G (S + U C)) <= 2 samples N, times G.
-        let budget = (2 * self.samples as u128 * pixels).saturating_sub(5 * rays as u128) * count as u128;
+        // 5 (R + N/G (S + U C)) <= 2 samples N, times G: what R rays leave.
+        let budget_after =
+            |rays: u64| (2 * self.samples as u128 * pixels).saturating_sub(5 * rays as u128) * count as u128;
+        let budget = budget_after(rays);
         let spent = 5 * settled_pilots as u128 * pixels;
         self.cap = match budget.checked_sub(spent) {
             _ if unsettled == 0 => self.samples,
@@ -460,8 +462,6 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // plain pilot, as a floor (seeds 1042, 8232 cast 21 and 18 % of
         // `point` and missed by stopping early).
         if self.cap == self.samples && plain_settled > 0 && !cfg!(feature = "no-spare-floor") {
-            let budget_after =
-                |rays: u64| (2 * self.samples as u128 * pixels).saturating_sub(5 * rays as u128) * count as u128;
             // The unsettled pixels' rays, high: every sample, three count
             // deviations and three pixels more (seed 8212: none of 70 surveyed,
             // 0.6 % of the frame, cast 40.3 %).
