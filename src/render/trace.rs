@@ -279,16 +279,23 @@ impl<S: Scalar> Scene<S> {
             if !S::dot_positive(n.to_array(), to_light.to_array()) {
                 continue;
             }
-            let (l, dist) = to_light.normalize_len();
+            let l = to_light.normalize();
             let n_dot_l = n.dot_inline(l);
             if n_dot_l <= S::ZERO {
                 continue;
             }
-            // Along P's own vector to the light, from just above P: the ray the
-            // algorithm casts (aimed from p_shadow, it passed a blocker near the
-            // light 1e-3 aside of f32's and flipped a shadow edge's pixels).
-            if self.shadows && self.shadowed(p_shadow, l, to_light, dist, S::HIT_EPSILON, own, from) {
-                continue;
+            // The segment from just above P to the light itself (SPEC: "a light
+            // whose segment from P is blocked"): along P's own vector from
+            // p_shadow it ended at light + n ε, past a surface 5e-4 behind the
+            // light in some pixels and not others (seed 29172). `light −
+            // p_shadow` is exact in Q16.16 (p_shadow + v is the light), and
+            // every type (f32, float64's reference) casts the same segment.
+            if self.shadows {
+                let v = light.position - p_shadow;
+                let (ls, dist_s) = v.normalize_len();
+                if self.shadowed(p_shadow, ls, v, dist_s, S::HIT_EPSILON, own, from) {
+                    continue;
+                }
             }
             let r = n.scale(n_dot_l.add(n_dot_l)) - l;
             let r_dot_v = r.dot_inline(v).max(S::ZERO);
