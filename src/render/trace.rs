@@ -158,6 +158,20 @@ impl<S: Scalar> Scene<S> {
             .any(|(i, obj)| Some(i) != skip && obj.blocks(o, d, v, dist, t_min, from))
     }
 
+    /// [`Scene::shadowed`] on the segment from `o` (just above the hit) to
+    /// `light` itself, `t_min` its start (docs/accuracy.md, fix 20): `light −
+    /// o` is exact in Q16.16, so the segment ends at the light in every type.
+    /// Out of line, and not on the micro:bit (`no-exact-retakes`: its flash
+    /// has no room for the second normalising; it keeps P's own vector from
+    /// `o`, whose segment ends at `light + n ε`).
+    #[cfg(not(feature = "no-exact-retakes"))]
+    #[inline(never)]
+    fn shadowed_to(&self, o: Vec3<S>, light: Vec3<S>, t_min: S, skip: Option<usize>, from: ShadowFrom<'_, S>) -> bool {
+        let v = light - o;
+        let (d, dist) = v.normalize_len();
+        self.shadowed(o, d, v, dist, t_min, skip, from)
+    }
+
     /// The colour seen along the ray `o + t d` (unit `d`), unclamped.
     ///
     /// # Panics
@@ -279,7 +293,7 @@ impl<S: Scalar> Scene<S> {
             if !S::dot_positive(n.to_array(), to_light.to_array()) {
                 continue;
             }
-            let l = to_light.normalize();
+            let (l, dist) = to_light.normalize_len();
             let n_dot_l = n.dot_inline(l);
             if n_dot_l <= S::ZERO {
                 continue;
@@ -287,15 +301,20 @@ impl<S: Scalar> Scene<S> {
             // The segment from just above P to the light itself (SPEC: "a light
             // whose segment from P is blocked"): along P's own vector from
             // p_shadow it ended at light + n ε, past a surface 5e-4 behind the
-            // light in some pixels and not others (seed 29172). `light −
-            // p_shadow` is exact in Q16.16 (p_shadow + v is the light), and
-            // every type (f32, float64's reference) casts the same segment.
-            if self.shadows {
-                let v = light.position - p_shadow;
-                let (ls, dist_s) = v.normalize_len();
-                if self.shadowed(p_shadow, ls, v, dist_s, S::HIT_EPSILON, own, from) {
-                    continue;
-                }
+            // light in some pixels and not others (seed 29172). Every type
+            // (f32, float64's reference) casts the same segment; the micro:bit
+            // (no retakes, no flash) P's own vector from p_shadow, as before.
+            #[cfg(not(feature = "no-exact-retakes"))]
+            let blocked = self.shadows
+                && if self.exact_retakes() {
+                    self.shadowed_to(p_shadow, light.position, S::HIT_EPSILON, own, from)
+                } else {
+                    self.shadowed(p_shadow, l, to_light, dist, S::HIT_EPSILON, own, from)
+                };
+            #[cfg(feature = "no-exact-retakes")]
+            let blocked = self.shadows && self.shadowed(p_shadow, l, to_light, dist, S::HIT_EPSILON, own, from);
+            if blocked {
+                continue;
             }
             let r = n.scale(n_dot_l.add(n_dot_l)) - l;
             let r_dot_v = r.dot_inline(v).max(S::ZERO);
