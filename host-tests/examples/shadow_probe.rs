@@ -26,9 +26,9 @@ fn probe<S: Scalar>(text: &str, c: u32, r: u32) {
     );
     let ps = p + n.scale(S::HIT_EPSILON);
     for (k, light) in scene.lights().iter().enumerate() {
-        let to = light.position - p;
-        let (l, dist) = to.normalize_len();
-        let ndl = n.dot(l).to_f64();
+        let ndl = n.dot((light.position - p).normalize()).to_f64();
+        // The segment from just above P to the light itself (docs/accuracy.md, fix 20).
+        let (l, dist) = (light.position - ps).normalize_len();
         let blockers: Vec<(usize, f64)> = scene
             .objects()
             .iter()

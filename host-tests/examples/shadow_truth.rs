@@ -46,11 +46,12 @@ fn main() {
         let lp = light.position.to_f64();
         for (name, p) in [("Q16.16's P", pq), ("exact P", pe)] {
             let ps = [0, 1, 2].map(|k| p[k] + n[k] * eps);
-            let to = [0, 1, 2].map(|k| lp[k] - p[k]);
-            let dist = (to[0] * to[0] + to[1] * to[1] + to[2] * to[2]).sqrt();
-            if to[0] * n[0] + to[1] * n[1] + to[2] * n[2] <= 0.0 {
+            if (0..3).map(|k| (lp[k] - p[k]) * n[k]).sum::<f64>() <= 0.0 {
                 continue;
             }
+            // The segment from just above P to the light itself (fix 20).
+            let to = [0, 1, 2].map(|k| lp[k] - ps[k]);
+            let dist = (to[0] * to[0] + to[1] * to[1] + to[2] * to[2]).sqrt();
             let u = to.map(|x| x / dist);
             for (k, ob) in s64.objects.iter().enumerate() {
                 if k == i {

@@ -489,13 +489,15 @@ impl Scene64 {
             let l = scale(to, 1.0 / dist);
             let mut blocked = false;
             if self.shadows {
-                // SPEC's algorithm: from just above P, along P's own direction to the light.
-                let ls = l;
+                // SPEC's segment from P to the light, its start lifted to just above P.
+                let to_s = sub(lp, ps);
+                let dist_s = dot(to_s, to_s).sqrt();
+                let ls = scale(to_s, 1.0 / dist_s);
                 for (j, other) in self.objects.iter().enumerate() {
                     if other.shape == Shape::Plane && j == i {
                         continue;
                     }
-                    let b = other.hit(ps, ls, eps, dist).is_some();
+                    let b = other.hit(ps, ls, eps, dist_s).is_some();
                     let m = other.margin(ps, ls);
                     if b || (m.hit.abs() < 1e-3 && other.shape != Shape::Plane) {
                         use_.blockers.push((j, m, b));

@@ -88,7 +88,7 @@ fn along_a_face(s64: &Scene64, r: &mut impl FnMut() -> f64) -> [f64; 3] {
 /// smaller of its [`Margin`](lensray_host::reference64::Margin)s, a cube's
 /// times the slope), and for a cube the smallest slope of the ray to a face
 /// (its unit object-space direction's smallest component; 1 for the other
-/// shapes), and how far from the segment's end the line meets the blocker
+/// shapes), and how far from the segment's end (the light) the line meets the blocker
 /// (world units, infinite for no meeting). `None` where the ray meets
 /// another object first, nothing, or the light is behind or nearly along
 /// the surface.
@@ -110,7 +110,11 @@ fn shadow64(s64: &Scene64, light: [f64; 3], o: [f64; 3], d: [f64; 3]) -> Option<
     if dot(n, l) < 0.05 {
         return None;
     }
+    // The segment from just above P to the light itself.
     let ps = [0, 1, 2].map(|k| p[k] + n[k] * eps);
+    let to = [0, 1, 2].map(|k| light[k] - ps[k]);
+    let dist = dot(to, to).sqrt();
+    let l = to.map(|x| x / dist);
     let blocker = &s64.objects[1];
     let m = blocker.margin(ps, l);
     let slope = if blocker.shape == Shape::Cube {
@@ -332,11 +336,12 @@ fn shadow_rays_along_a_cube_face_decide_as_f64_does() {
     check(&disagreements(600, 0x5AAD_0E7A_16E7_0002, true), 1000);
 }
 
-/// A blocker's surface near the light (docs/accuracy.md "What remains",
-/// not flagged): over `cases` random pairs, the light `delta` beyond or
-/// before where the shadow ray's line enters the blocker, on Q16.16's grid;
-/// rays, and Q16.16's light unlike f64's, by how far from the segment's end
-/// (`light + n ε`) f64's line meets the blocker: under 1e-5, 1e-4, above.
+/// A blocker's surface near the light (docs/accuracy.md, fix 20): over
+/// `cases` random pairs, the light `delta` (1e-6 to 1e-3) beyond or before
+/// where the line from the lit point to the light enters the blocker, on
+/// Q16.16's grid; rays, and Q16.16's light unlike f64's, by how far from
+/// the segment's end (the light itself, since fix 20) f64's shadow ray
+/// meets the blocker: under 1e-5, 1e-4, above.
 fn near_the_light(cases: usize) -> (usize, [usize; 3], [usize; 3]) {
     let mut r = rng(0x5AAD_0E7A_16E7_0003);
     let (mut rays, mut per, mut wrong) = (0, [0; 3], [0; 3]);
@@ -395,12 +400,28 @@ fn near_the_light(cases: usize) -> (usize, [usize; 3], [usize; 3]) {
     (rays, per, wrong)
 }
 
-/// Measures only: a blocker's hit within Q16.16's error of the light is
-/// not flagged (docs/accuracy.md "What remains").
+/// Shadow rays ending near a blocker decide as f64 does where the blocker
+/// is met at least 1e-4 from the light (at most 1 in 200 unlike f64) and
+/// mostly from 1e-5 to 1e-4 (at most 1 in 4); closer, Q16.16's own t at
+/// the light's end (2⁻¹⁶ of 5 to 55 units) decides: printed, not asserted.
+/// Before fix 20 the segment ended at `light + n ε`, not at the light, and
+/// Q16.16 (f32 and f64 as well) decided these rays by that end: see
+/// docs/accuracy.md, fix 20.
 #[test]
-#[ignore = "measures an open class (a blocker's surface near the light): prints, asserts only that it ran"]
-fn shadow_rays_ending_near_a_blocker_measured() {
+fn shadow_rays_ending_near_a_blocker_decide_as_f64_does() {
     let (rays, per, wrong) = near_the_light(3000);
-    println!("{rays} rays; the blocker met from the end under 1e-5, 1e-4, above: {per:?} rays, {wrong:?} unlike f64");
-    assert!(rays > 500, "{rays} rays");
+    println!("{rays} rays; the blocker met from the light under 1e-5, 1e-4, above: {per:?} rays, {wrong:?} unlike f64");
+    assert!(rays > 1000 && per[1] > 300 && per[2] > 300, "{rays} rays, {per:?}");
+    assert!(
+        wrong[2] * 200 <= per[2],
+        "{} of {} met 1e-4 or more from the light unlike f64",
+        wrong[2],
+        per[2]
+    );
+    assert!(
+        wrong[1] * 4 <= per[1],
+        "{} of {} met 1e-5 to 1e-4 from the light unlike f64",
+        wrong[1],
+        per[1]
+    );
 }

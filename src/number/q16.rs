@@ -412,7 +412,8 @@ pub(crate) fn exact_hit_point(o: [I16F16; 3], d: &FixedDir, t: i64) -> Option<[I
 /// point `P = o + t d` of the world ray at 2^-32 ([`exact_along`]), the
 /// start `P + n ε` (ε times the Q16.16 normal, exact at 2^-32) rounded to
 /// Q16.16 with its bits below as the direction's `o_lo`, and the direction
-/// the exact vector `light − P` at 2^-30: Q16.16's P, rounded to 2^-16 a
+/// the exact vector from that start to the light at 2^-30 (the segment ends
+/// at the light itself): Q16.16's P, rounded to 2^-16 a
 /// component, put a shadow ray 4.4e-6 from tangent to a cylinder on the
 /// other side (seeds 5116, 12124). `None` where the scales do not fit.
 #[cfg(not(feature = "no-exact-retakes"))]
@@ -428,8 +429,9 @@ pub(crate) fn shadow_line(
     let p = exact_along(o, d, t)?;
     let (mut v, mut start, mut lo) = ([0i64; 3], [I16F16::ZERO; 3], [0i16; 3]);
     for i in 0..3 {
-        v[i] = ((light[i].to_bits() as i64) << 16) - p[i];
-        (start[i], lo[i]) = split32(p[i] + mul_i32(n[i].to_bits(), eps.to_bits()))?;
+        let s = p[i] + mul_i32(n[i].to_bits(), eps.to_bits());
+        v[i] = ((light[i].to_bits() as i64) << 16) - s;
+        (start[i], lo[i]) = split32(s)?;
     }
     // At 2^-30 (|v| below 2 keeps g at 30, the finest `fine_point` takes).
     let mut dir = FixedDir::from_i64(v.map(|x| shr_round_call(x, 2)), -30);

@@ -299,7 +299,7 @@ mod kernels {
         /// A shadow ray's line taken again from the exact hit
         /// (`q16::shadow_line`): the world ray `o + t d` (`d` held precisely)
         /// hit at `t` (at 2^-30 world units, from [`Kernels::exact_t`]), the
-        /// start `P + n ε` and the direction `light − P` from the exact `P`,
+        /// start `P + n ε` and the direction `light − (P + n ε)` from the exact `P`,
         /// as the start rounded to `Self` and a precise direction carrying its
         /// bits below. `None` where the type has no such kernel (f32, whose
         /// shadow rays stay as they were) or the scales do not fit.

@@ -158,6 +158,20 @@ impl<S: Scalar> Scene<S> {
             .any(|(i, obj)| Some(i) != skip && obj.blocks(o, d, v, dist, t_min, from))
     }
 
+    /// [`Scene::shadowed`] on the segment from `o` (just above the hit) to
+    /// `light` itself, `t_min` its start (docs/accuracy.md, fix 20): `light −
+    /// o` is exact in Q16.16, so the segment ends at the light in every type.
+    /// Out of line, and not on the micro:bit (`no-exact-retakes`: its flash
+    /// has no room for the second normalising; it keeps P's own vector from
+    /// `o`, whose segment ends at `light + n ε`).
+    #[cfg(not(feature = "no-exact-retakes"))]
+    #[inline(never)]
+    fn shadowed_to(&self, o: Vec3<S>, light: Vec3<S>, t_min: S, skip: Option<usize>, from: ShadowFrom<'_, S>) -> bool {
+        let v = light - o;
+        let (d, dist) = v.normalize_len();
+        self.shadowed(o, d, v, dist, t_min, skip, from)
+    }
+
     /// The colour seen along the ray `o + t d` (unit `d`), unclamped.
     ///
     /// # Panics
@@ -284,10 +298,22 @@ impl<S: Scalar> Scene<S> {
             if n_dot_l <= S::ZERO {
                 continue;
             }
-            // Along P's own vector to the light, from just above P: the ray the
-            // algorithm casts (aimed from p_shadow, it passed a blocker near the
-            // light 1e-3 aside of f32's and flipped a shadow edge's pixels).
-            if self.shadows && self.shadowed(p_shadow, l, to_light, dist, S::HIT_EPSILON, own, from) {
+            // The segment from just above P to the light itself (SPEC: "a light
+            // whose segment from P is blocked"): along P's own vector from
+            // p_shadow it ended at light + n ε, past a surface 5e-4 behind the
+            // light in some pixels and not others (seed 29172). Every type
+            // (f32, float64's reference) casts the same segment; the micro:bit
+            // (no retakes, no flash) P's own vector from p_shadow, as before.
+            #[cfg(not(feature = "no-exact-retakes"))]
+            let blocked = self.shadows
+                && if self.exact_retakes() {
+                    self.shadowed_to(p_shadow, light.position, S::HIT_EPSILON, own, from)
+                } else {
+                    self.shadowed(p_shadow, l, to_light, dist, S::HIT_EPSILON, own, from)
+                };
+            #[cfg(feature = "no-exact-retakes")]
+            let blocked = self.shadows && self.shadowed(p_shadow, l, to_light, dist, S::HIT_EPSILON, own, from);
+            if blocked {
                 continue;
             }
             let r = n.scale(n_dot_l.add(n_dot_l)) - l;

@@ -424,7 +424,7 @@ impl<S: Scalar> Object<S> {
     }
 
     /// Whether the shadow ray from `o` along `v` (the exact vector from the
-    /// hit to the light, `d` its unit direction, `dist` its length) meets
+    /// ray's start to the light, `d` its unit direction, `dist` its length) meets
     /// this object with `t_min < t < dist`. With `Kernels::SHADOW_PRECISE_DIR`, a bounded shape
     /// takes its object-space direction and re-origin from `v` itself: the
     /// rounded `d` (2⁻¹⁷ a component) put a blocker 150 units on 1e-3 aside.
@@ -733,14 +733,15 @@ pub(crate) type ShadowFrom<'a, S> = core::marker::PhantomData<&'a S>;
 
 #[cfg(not(feature = "no-exact-retakes"))]
 impl<S: Scalar> ShadowStart<'_, S> {
-    /// The shadow ray toward `p + v` (the light) from the exact hit: its
+    /// The shadow ray toward `p + n ε + v` (the light) from the exact hit: its
     /// start rounded with the bits below carried, and its direction
     /// (`Kernels::shadow_line`); `None` where the kernels have no answer.
     #[cold]
     #[inline(never)]
     fn exact_line(&self, v: Vec3<S>) -> Option<(Vec3<S>, S::Dir)> {
         let t = self.obj.exact_t(self.hit, self.o, self.d)?;
-        let light = (self.p + v).to_array();
+        // The start as `trace_culled` rounds it: start + v is the light.
+        let light = (self.p + self.n * S::HIT_EPSILON + v).to_array();
         S::shadow_line(self.o.to_array(), self.d, t, (self.n.to_array(), S::HIT_EPSILON), light)
             .map(|(s, d)| (Vec3::from_array(s), d))
     }
