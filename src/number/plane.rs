@@ -218,14 +218,21 @@ pub(crate) fn plane_hit(
         let (x, y) = far_xy(rows, o, &d, (oz, k, dz), checker);
         return Some((q16(t), x, y));
     }
-    // Object-space x and y: o + t (row · D).
+    // Object-space x and y: o + t (row · D). Beyond Q16.16's range (a hit
+    // in range on a plane scaled down: seed 32254's at 31,777 read 59,958 of
+    // its object y), the middle of a square of its true parity, as `far_xy`.
     let along = |i: usize| {
         let start = match eye {
             Some(e) => e[i],
             None => rows[i].apply(o, true),
         }
         .to_bits() as i64;
-        q16(start + scaled(t, dot(&rows[i], &d.m), 30 + rows[i].shift))
+        let x = start + scaled(t, dot(&rows[i], &d.m), 30 + rows[i].shift);
+        if x == x as i32 as i64 {
+            I16F16::from_bits(x as i32)
+        } else {
+            far_coord(&rows[i], o, &d, t, 0, checker)
+        }
     };
     Some((q16(t), along(0), along(1)))
 }
@@ -446,18 +453,18 @@ mod tests {
         assert!(hits > 5_000, "{hits} hits");
     }
 
-    /// A checkered plane's hits beyond Q16.16's range keep their true square:
-    /// the parity of [`plane_hit`]'s (x, y) under `Kernels::checker_cell`
-    /// against the parity of the same hit computed in f64 from the kernel's
-    /// own inputs (rows, rounded origin terms, direction mantissas). Clamping
-    /// the distance at 32767 gives the square there: right half the time.
-    #[test]
-    fn far_hits_keep_their_checker_parity() {
-        let mut next = crate::test_rng::unit_f64(0x2545_F491);
-        let (mut far, mut right) = (0, 0);
+    /// Rays from random origins to a checkered floor at a distance of `near`
+    /// to 10 `near`, turned about y and scaled in its own plane by 0.3 to 4.3
+    /// times `shrink`: of the hits `keep` takes (by f64's t and object x, y),
+    /// how many, and how many whose parity of [`plane_hit`]'s (x, y) under
+    /// `Kernels::checker_cell` is that of the same hit computed in f64 from
+    /// the kernel's own inputs (rows, rounded origin terms, direction mantissas).
+    fn checker_parity(seed: u32, near: f64, shrink: f64, keep: fn(f64, f64, f64) -> bool) -> (u32, u32) {
+        let mut next = crate::test_rng::unit_f64(seed);
+        let (mut kept, mut right) = (0, 0);
         for _ in 0..4000 {
             // A floor at height h, turned about y and scaled in its own plane.
-            let (h, turn, s) = (next() * 100.0 - 50.0, next() * 360.0, 0.3 + next() * 4.0);
+            let (h, turn, s) = (next() * 100.0 - 50.0, next() * 360.0, (0.3 + next() * 4.0) * shrink);
             let to_world = Mat34::translate([0.0, h, 0.0])
                 .after(&Mat34::rotate(1, turn))
                 .after(&Mat34::rotate(0, -90.0))
@@ -467,8 +474,8 @@ mod tests {
             let side = I16F16::from_f64(0.3 + next() * 9.0);
             let scale = <I16F16 as Kernels>::checker_scale(side.to_f64());
             let o = [0, 1, 2].map(|_| I16F16::from_f64(next() * 200.0 - 100.0));
-            // Towards the floor at a distance of 40,000 to 400,000.
-            let reach = 40_000.0 * libm::exp(next() * libm::log(10.0));
+            // Towards the floor at a distance of `near` to 10 `near`.
+            let reach = near * libm::exp(next() * libm::log(10.0));
             let dy = h - o[1].to_f64();
             let phi = next() * core::f64::consts::TAU;
             let c = libm::sqrt(1.0 - (dy / reach) * (dy / reach));
@@ -506,7 +513,7 @@ mod tests {
                 start + t * dot
             };
             let (fx, fy) = (coord(&rows[0]), coord(&rows[1]));
-            if t < 32768.0 || fx.abs().max(fy.abs()) > (1u64 << 29) as f64 {
+            if !keep(t, fx, fy) || fx.abs().max(fy.abs()) > (1u64 << 29) as f64 {
                 continue;
             }
             // Kernels::checker_cell on the exact value: floor(x 2^16 m / 2^(29 + b)).
@@ -515,12 +522,33 @@ mod tests {
             let want = (cell(fx) + cell(fy)) & 1;
             let cells = |v: I16F16| <I16F16 as Kernels>::checker_cell(v, side, scale);
             let got = (cells(x) + cells(y)) & 1;
-            far += 1;
+            kept += 1;
             right += (got == want) as u32;
         }
+        (kept, right)
+    }
+
+    /// A checkered plane's hits beyond Q16.16's range keep their true square
+    /// ([`checker_parity`]). Clamping the distance at 32767 gives the square
+    /// there: right half the time.
+    #[test]
+    fn far_hits_keep_their_checker_parity() {
+        let (far, right) = checker_parity(0x2545_F491, 40_000.0, 1.0, |t, _, _| t >= 32768.0);
         // Borders within 2^-30 of a hit's size may go either way: a few.
         assert!(right as f64 >= 0.995 * far as f64, "{right} of {far}");
         assert!(far > 1000, "{far}");
+    }
+
+    /// Hits in range on a plane scaled down, whose object x or y is beyond
+    /// Q16.16's range, keep their true square too ([`checker_parity`]; seed
+    /// 32254: the coordinate clamped at 32768, a column of squares flipped).
+    #[test]
+    fn hits_in_range_beyond_the_objects_range_keep_their_parity() {
+        let (kept, right) = checker_parity(0x3225_4001, 3_000.0, 0.05, |t, x, y| {
+            t < 32768.0 && x.abs().max(y.abs()) >= 32768.0
+        });
+        assert!(right as f64 >= 0.995 * kept as f64, "{right} of {kept}");
+        assert!(kept > 500, "{kept}");
     }
 
     /// Grazing hits in range: t within 2^-16 plus 2^-28 relative of its value
