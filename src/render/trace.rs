@@ -161,10 +161,10 @@ impl<S: Scalar> Scene<S> {
     /// [`Scene::shadowed`] on the segment from `o` (just above the hit) to
     /// `light` itself, `t_min` its start (docs/accuracy.md, fix 20): `light −
     /// o` is exact in Q16.16, so the segment ends at the light in every type.
-    /// Out of line, and not on the micro:bit (`no-exact-retakes`: its flash
-    /// has no room for the second normalising; it keeps P's own vector from
-    /// `o`, whose segment ends at `light + n ε`).
-    #[cfg(not(feature = "no-exact-retakes"))]
+    /// Out of line, and not on the micro:bit (`no-exact-retakes`, where
+    /// `exact_retakes` is false: its flash has no room for the second
+    /// normalising; it keeps P's own vector from `o`, whose segment ends at
+    /// `light + n ε`).
     #[inline(never)]
     fn shadowed_to(&self, o: Vec3<S>, light: Vec3<S>, t_min: S, skip: Option<usize>, from: ShadowFrom<'_, S>) -> bool {
         let v = light - o;
@@ -304,15 +304,12 @@ impl<S: Scalar> Scene<S> {
             // light in some pixels and not others (seed 29172). Every type
             // (f32, float64's reference) casts the same segment; the micro:bit
             // (no retakes, no flash) P's own vector from p_shadow, as before.
-            #[cfg(not(feature = "no-exact-retakes"))]
             let blocked = self.shadows
                 && if self.exact_retakes() {
                     self.shadowed_to(p_shadow, light.position, S::HIT_EPSILON, own, from)
                 } else {
                     self.shadowed(p_shadow, l, to_light, dist, S::HIT_EPSILON, own, from)
                 };
-            #[cfg(feature = "no-exact-retakes")]
-            let blocked = self.shadows && self.shadowed(p_shadow, l, to_light, dist, S::HIT_EPSILON, own, from);
             if blocked {
                 continue;
             }
