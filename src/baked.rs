@@ -88,6 +88,8 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
         survey_rays,
         spread,
         floor,
+        budget256,
+        gap_period,
     } = r;
     put_scene(scene, w);
     camera.put(w);
@@ -101,6 +103,8 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
     survey_rays.put(w);
     spread.put(w);
     floor.put(w);
+    budget256.put(w);
+    gap_period.put(w);
 }
 
 fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
@@ -173,6 +177,8 @@ pub struct Baked<S: BakeScalar> {
     survey_rays: u32,
     spread: u32,
     floor: u32,
+    budget256: u32,
+    gap_period: u32,
     /// The cones and footprints were moved out by [`Baked::take_renderer`].
     taken: bool,
 }
@@ -193,6 +199,8 @@ impl<S: BakeScalar> Baked<S> {
             survey_rays: 0,
             spread: 0,
             floor: 0,
+            budget256: 0,
+            gap_period: 0,
             taken: false,
         }
     }
@@ -240,6 +248,8 @@ impl<S: BakeScalar> Baked<S> {
         self.survey_rays = 0;
         self.spread = 0;
         self.floor = 0;
+        self.budget256 = 0;
+        self.gap_period = 0;
     }
 
     fn load_checked(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
@@ -312,6 +322,8 @@ impl<S: BakeScalar> Baked<S> {
         self.survey_rays.take(r);
         self.spread.take(r);
         self.floor.take(r);
+        self.budget256.take(r);
+        self.gap_period.take(r);
         if !r.ok() {
             return;
         }
@@ -352,6 +364,8 @@ impl<S: BakeScalar> Baked<S> {
             survey_rays: self.survey_rays,
             spread: self.spread,
             floor: self.floor,
+            budget256: self.budget256,
+            gap_period: self.gap_period,
         }
     }
 
@@ -380,6 +394,8 @@ impl<S: BakeScalar> Baked<S> {
             survey_rays: self.survey_rays,
             spread: self.spread,
             floor: self.floor,
+            budget256: self.budget256,
+            gap_period: self.gap_period,
         }
     }
 

@@ -57,6 +57,13 @@ pub struct Renderer<'a, S: Scalar> {
     /// take what the survey measured them to): such a pixel goes on to it (dithered
     /// to a power of two, [`dithered_cap`]) and stops there. 0: none.
     pub(crate) floor: u32,
+    /// Below [`ADAPTIVE_MIN_POINT`] with gaps (see [`Renderer::gaps`]): the
+    /// rays a pixel that casts any takes, in 256ths (dithered), from the gap
+    /// survey: the budget the filled gaps leave. 0: 40 % of `point`.
+    pub(crate) budget256: u32,
+    /// Below [`ADAPTIVE_MIN_POINT`]: anchors every this many columns (see
+    /// [`scanline::fills`]), from the gap survey; 0: no gaps.
+    pub(crate) gap_period: u32,
 }
 
 /// The pilot of `point 48` to 95: one sample in each of 16 equal strata of
@@ -95,7 +102,7 @@ const _: () = assert!(scanline::SMALL_PILOT_POINT == ADAPTIVE_EIGHT_POINT);
 /// at 320×240), where taking every sample meets none (100 % of `point`);
 /// without the filter, 7 and 9 of 60. At 1 and 2, 40 % is under the one ray
 /// a pixel needs.
-pub const ADAPTIVE_BUDGET_POINT: u32 = 3;
+pub const ADAPTIVE_BUDGET_POINT: u32 = 1;
 
 /// The pilot of a pixel with `samples` lens samples: the largest power of two
 /// at most a third of them, and at least [`ADAPTIVE_MIN_PILOT`]; below
@@ -147,7 +154,18 @@ pub fn dithered_budget(samples: u32, col: u32, row: u32) -> u32 {
     dithered_ratio(samples.saturating_mul(2), 5, col, row)
 }
 
-/// [`dithered_cap`] of `num / den` (`den` 1 or 5).
+/// The gap periods a frame may take (see [`Renderer::gap_period`]): anchors
+/// every 2, 3 or 4 columns.
+pub const GAP_PERIODS: core::ops::RangeInclusive<u32> = 2..=4;
+
+/// The column of row `row`'s first anchor at `period`: a diagonal from row
+/// to row, so that no column is a gap in every row.
+#[inline]
+pub fn gap_phase(row: u32, period: u32) -> u32 {
+    row % period.max(1)
+}
+
+/// [`dithered_cap`] of `num / den` (`den` 1, 5 or 256).
 fn dithered_ratio(num: u32, den: u32, col: u32, row: u32) -> u32 {
     const BAYER: [u8; 16] = [0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5];
     let whole = (num / den).max(1);
@@ -364,6 +382,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             survey_rays: 0,
             spread: 0,
             floor: 0,
+            budget256: 0,
+            gap_period: 0,
         }
     }
 
@@ -385,8 +405,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         self.survey_rays = 0;
         self.spread = 0;
         self.floor = 0;
+        self.budget256 = 0;
+        self.gap_period = 0;
         let (cols, rows) = (self.camera.cols(), self.camera.rows());
         let stride = survey_stride(cols, rows, self.samples);
+        if let (true, Some(s)) = (self.gaps(), stride) {
+            return self.gap_surveyed(s);
+        }
         let (true, Some(s), false) = (
             self.adaptive && self.samples >= ADAPTIVE_MIN_POINT,
             stride,
@@ -504,6 +529,113 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             self.survey_rays = rays as u32;
         }
         self
+    }
+
+    /// Sets [`Renderer::gap_period`] and [`Renderer::budget256`] from a
+    /// survey of gaps on a grid of spacing `s` (at least 16): for a period,
+    /// one pair of neighbouring anchors in each cell is rendered at 40 % of
+    /// `point`, and the share F of pairs whose gaps [`scanline::fills`]
+    /// fills, less one binomial deviation, frees F G pixels, G the frame's
+    /// gaps between two anchors; the pixels that cast rays share what the
+    /// frame's budget (40 % of `point` a pixel) leaves after the survey's
+    /// rays. Above one sample, the pairs are rendered again at that budget
+    /// and the lesser F sets it (more rays a pixel fill fewer gaps). The
+    /// period is the shortest whose budget is a ray a pixel or more (a pixel
+    /// that casts casts one at least), else the longest. Set-up only, in integers.
+    fn gap_surveyed(mut self, s: u32) -> Self {
+        let (cols, rows) = (self.camera.cols(), self.camera.rows());
+        let pixels = cols as u64 * rows as u64;
+        let mut rays = 0u64;
+        // A survey of a few hundred pairs: its rays are a small share of a frame's at `point` 1.
+        let s = s.max(16);
+        for period in GAP_PERIODS {
+            self.budget256 = 0;
+            self.gap_period = period;
+            let mut least = u64::MAX;
+            for pass in 0..2 {
+                if pass == 1 && self.samples == 1 {
+                    break;
+                }
+                let (mut tested, mut filled) = (0u64, 0u64);
+                for j in 0..rows / s {
+                    for k in 0..cols / s {
+                        // A spot in each cell of the grid, every phase of the dither.
+                        let h = (j.wrapping_mul(0x9E37_79B9) ^ k.wrapping_mul(0x85EB_CA6B)).wrapping_mul(0xC2B2_AE35);
+                        let y = j * s + (h >> 8) % s;
+                        let x = k * s + (h >> 20) % s;
+                        // The anchor at or after x, and the next.
+                        let x = x + (gap_phase(y, period) + period - x % period) % period;
+                        if x + period >= cols {
+                            continue;
+                        }
+                        let (l, nl, cl) = self.pixel_far(x, y);
+                        let (r, nr, cr) = self.pixel_far(x + period, y);
+                        rays += (nl + nr) as u64;
+                        tested += 1;
+                        filled += scanline::fills((l, cl), (r, cr)) as u64;
+                    }
+                }
+                if tested == 0 {
+                    self.gap_period = 0;
+                    self.budget256 = 0;
+                    return self;
+                }
+                let var = (filled * (tested - filled)).div_ceil(tested);
+                let sigma = crate::number::wide::isqrt_rem_u64(var).0 + 1;
+                // In 65536ths of the pairs tested.
+                least = least.min((filled.saturating_sub(sigma) << 16) / tested);
+                // Rays left: 2 p N / 5 − R; pixels casting: N − F G.
+                let left = (2 * self.samples as u64 * pixels).saturating_sub(5 * rays);
+                let casting = 5 * ((pixels << 16) - least * self.fillable_gaps());
+                let b256 = (left * 256 * (1 << 16) / casting.max(1)).min(256 * self.samples as u64);
+                self.budget256 = (b256 as u32).max(1);
+            }
+            if self.budget256 >= 256 {
+                break;
+            }
+        }
+        self.survey_rays = rays as u32;
+        self
+    }
+
+    /// How many pixels of the frame are gaps between two anchors (see [`gap_phase`]).
+    fn fillable_gaps(&self) -> u64 {
+        let (cols, rows, period) = (
+            self.camera.cols() as u64,
+            self.camera.rows() as u64,
+            self.gap_period as u64,
+        );
+        (0..period.min(rows))
+            .map(|phase| {
+                // Rows of this phase, and the anchors of each: phase, phase + period ... < cols.
+                let rows_of = (rows - phase).div_ceil(period);
+                let anchors = if phase < cols {
+                    (cols - phase).div_ceil(period)
+                } else {
+                    0
+                };
+                rows_of * anchors.saturating_sub(1) * (period - 1)
+            })
+            .sum()
+    }
+
+    /// The rays a pixel casts below [`ADAPTIVE_MIN_POINT`] with gaps, in 256ths (0: none set).
+    #[doc(hidden)]
+    pub fn gap_budget(&self) -> u32 {
+        self.budget256
+    }
+
+    /// Anchors every this many columns below [`ADAPTIVE_MIN_POINT`] (see [`scanline::fills`]); 0: no gaps.
+    #[doc(hidden)]
+    pub fn gap_period(&self) -> u32 {
+        self.gap_period
+    }
+
+    /// Whether rows have gaps (see [`scanline::fills`]): rows are
+    /// filtered and the frame is below [`ADAPTIVE_MIN_POINT`] (a ray budget).
+    #[inline]
+    pub fn gaps(&self) -> bool {
+        self.filters() && self.samples < ADAPTIVE_MIN_POINT
     }
 
     /// The most samples an adaptive pixel that is not settled takes (from
@@ -635,6 +767,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     pub fn scanline(&self, row: u32, cols: u32) -> scanline::Scanline<impl FnMut(u32) -> (Rgb888, u32, u8) + '_> {
         scanline::Scanline::new(move |col| self.pixel_far(col, row), cols.min(self.camera.cols()))
             .with_filter(self.filters())
+            .with_gaps(self.gaps().then(|| (self.gap_period, gap_phase(row, self.gap_period))))
     }
 
     /// Whether rows are filtered where far out of focus (see [`scanline`]):
@@ -692,7 +825,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             most.max(check)
         } else if self.adaptive && self.samples >= ADAPTIVE_BUDGET_POINT {
             // Below the small pilot: a fixed stratified budget, 40 % of `point`.
-            dithered_budget(self.samples, col, row)
+            match self.budget256 {
+                0 => dithered_budget(self.samples, col, row),
+                // Anchors every `gap_period` columns: their own full dither.
+                b => dithered_ratio(b, 256, col / self.gap_period.max(1), row).min(self.samples),
+            }
         } else {
             self.samples
         };
@@ -719,6 +856,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut lamp_far = far;
         let mut lamps = 0u8;
         let mut stratum = self.defocus.stratum(check.min(full));
+        // With gaps: whether some ray met a checker (see [`scanline::fills`]).
+        let gaps = self.gaps();
+        let mut textured = false;
         while n < limit {
             let ray = self.camera.generate_ray(&CameraSample {
                 film: &film,
@@ -728,6 +868,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             // took 4 KiB more stack on the Cortex-M0.
             let footprint = stratified.then_some((&self.defocus, stratum));
             let (c, t) = self.scene.trace_lens_ray(&ray, &self.cones, footprint);
+            if gaps {
+                textured |= t.is_some_and(|(i, _)| self.scene.objects.get(i).is_some_and(|o| o.texture != S::ZERO));
+            }
             if far {
                 far = match t {
                     Some((i, t)) => {
@@ -794,7 +937,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             lamps | if wide { scanline::WIDE } else { 0 }
         } else {
             0
-        };
+        } | if textured { scanline::TEXTURED } else { 0 };
         (colour, n, spread, class)
     }
 

@@ -92,7 +92,7 @@ pub const WIDE: u8 = 4;
 /// there and in 8200-8239 (6007 +4.3 dB, 1050 -3.82 -> +0.20 dB against
 /// `point` independent samples), and at 3 and 4 it is what lets the one- or
 /// two-ray budget meet the floors at all (see `ADAPTIVE_BUDGET_POINT`).
-pub const FILTER_MIN_POINT: u32 = 3;
+pub const FILTER_MIN_POINT: u32 = 1;
 
 /// K / T: the circle of confusion of a point at infinity in pixels of an
 /// image `cols` wide, over [`FAR_COC_PIXELS`] (twice that below
@@ -183,6 +183,44 @@ fn mix5(a: Rgb888, b: Rgb888, c: Rgb888, d: Rgb888, e: Rgb888) -> Rgb888 {
     )
 }
 
+/// The class bit of a pixel some ray of which met a checkered surface (with
+/// gaps only, see [`fills`]; the filter ignores it).
+pub const TEXTURED: u8 = 8;
+
+/// The class bits the filter compares: the lamp classes and [`WIDE`].
+const FILTER_BITS: u8 = 3 | WIDE;
+
+/// The most a gap's two anchors may differ, in levels on every channel, for
+/// the gap to take their mean whatever their classes (see [`fills`]).
+pub const GAP_LEVELS: u8 = 1;
+
+/// Whether the gap pixels between two anchors `left` and `right` (colour and
+/// class) cast no ray and take the line between them: where both see only
+/// what is spread over twice the filter's gate (the 5-tap's class: the
+/// picture is nearly linear over a few pixels there) and share a lamp class,
+/// or where their colours are within [`GAP_LEVELS`] on every channel.
+#[inline]
+pub fn fills(left: (Rgb888, u8), right: (Rgb888, u8)) -> bool {
+    let (a, b) = (left.0, right.0);
+    let close = |x: u8, y: u8| x.abs_diff(y) <= GAP_LEVELS;
+    // A checker may hide a square between two anchors of one colour.
+    let smooth = (left.1 | right.1) & TEXTURED == 0 || left.1 & right.1 & 3 != 0;
+    let near = smooth && close(a.r(), b.r()) && close(a.g(), b.g()) && close(a.b(), b.b());
+    let (l, r) = (left.1 & FILTER_BITS, right.1 & FILTER_BITS);
+    let far = l & 3 != 0 && l & WIDE != 0 && l == r;
+    far || near
+}
+
+/// The gap `d` of `period` columns right of anchor `left`, on the line to
+/// anchor `right` (rounded), with their class where they share it, else 0.
+#[inline]
+fn interpolate(left: (Rgb888, u8), right: (Rgb888, u8), d: u32, period: u32) -> (Rgb888, u8) {
+    let (a, b) = (left.0, right.0);
+    let m = |x: u8, y: u8| ((x as u32 * (period - d) + y as u32 * d + period / 2) / period) as u8;
+    let class = if left.1 == right.1 { left.1 } else { 0 };
+    (Rgb888::new(m(a.r(), b.r()), m(a.g(), b.g()), m(a.b(), b.b())), class)
+}
+
 /// A row's pixels, filtered, in order from column 0 (see the module): from
 /// `pixel`, which renders column c as its colour, its rays and its class: 0
 /// where some ray met something within [`FAR_COC_PIXELS`] (see
@@ -203,6 +241,14 @@ pub struct Scanline<F> {
     rays: u32,
     /// Whether the row is filtered at all; without it each pixel is passed on as it comes.
     filter: bool,
+    /// Gaps (see [`fills`]): anchors every `period` columns from `phase`, or `None`.
+    gaps: Option<(u32, u32)>,
+    /// The last anchor fetched: its column and pixel.
+    left: (u32, (Rgb888, u8)),
+    /// The anchor right of the gaps being fetched, rendered before them.
+    right: Option<(u32, (Rgb888, u8))>,
+    /// Whether those gaps are filled.
+    fill: bool,
 }
 
 impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Scanline<F> {
@@ -215,6 +261,10 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Scanline<F> {
             window: [(Rgb888::BLACK, 0); 5],
             rays: 0,
             filter: true,
+            gaps: None,
+            left: (0, (Rgb888::BLACK, 0)),
+            right: None,
+            fill: false,
         }
     }
 
@@ -222,6 +272,48 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Scanline<F> {
     pub fn with_filter(mut self, filter: bool) -> Self {
         self.filter = filter;
         self
+    }
+
+    /// The same row with gaps: anchors at columns `phase`, `phase + period`
+    /// ... (`period` 2 to 4); the columns between two anchors cast no ray and
+    /// take the line between them where [`fills`] allows, else are rendered,
+    /// after the anchor on their right. Filtered rows only.
+    pub fn with_gaps(mut self, gaps: Option<(u32, u32)>) -> Self {
+        self.gaps = gaps
+            .filter(|&(period, _)| period >= 2)
+            .map(|(period, phase)| (period, phase % period));
+        self
+    }
+
+    /// Column `k` as rendered or filled (`k` = 0, 1, 2 ... in turn).
+    fn fetch(&mut self, k: u32) -> (Rgb888, u8) {
+        let Some((period, phase)) = self.gaps else {
+            return self.render(k);
+        };
+        let offset = (k + period - phase) % period;
+        if offset == 0 {
+            let p = match self.right.take() {
+                Some((_, p)) => p,
+                None => self.render(k),
+            };
+            self.left = (k, p);
+            return p;
+        }
+        if self.right.is_none() {
+            // The first gap of a run: its anchors, if it has both.
+            let next = k + (period - offset);
+            self.fill = false;
+            // Before the row's first anchor there is none on the left.
+            if k >= offset && next < self.cols {
+                let p = self.render(next);
+                self.right = Some((next, p));
+                self.fill = fills(self.left.1, p);
+            }
+        }
+        match self.right {
+            Some((_, right)) if self.fill => interpolate(self.left.1, right, offset, period),
+            _ => self.render(k),
+        }
     }
 
     /// The lens rays the pixels yielded so far (and the two ahead) cast.
@@ -250,13 +342,13 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Iterator for Scanline<F> {
             return Some(self.render(col).0);
         }
         if col == 0 {
-            self.window[2] = self.render(0);
+            self.window[2] = self.fetch(0);
             if self.cols > 1 {
-                self.window[3] = self.render(1);
+                self.window[3] = self.fetch(1);
             }
         }
         self.window[4] = if col + 2 < self.cols {
-            self.render(col + 2)
+            self.fetch(col + 2)
         } else {
             (Rgb888::BLACK, 0)
         };
@@ -264,13 +356,16 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Iterator for Scanline<F> {
         self.window = [a, b, c, c2, (Rgb888::BLACK, 0)];
         self.col = col + 1;
         let low = b.1 & 3;
-        Some(if b.1 & WIDE != 0 && [a2, a, c, c2].iter().all(|p| p.1 == b.1) {
-            mix5(a2.0, a.0, b.0, c.0, c2.0)
-        } else if low != 0 && a.1 & 3 == low && c.1 & 3 == low {
-            mix(a.0, b.0, c.0)
-        } else {
-            b.0
-        })
+        let class = |p: (Rgb888, u8)| p.1 & FILTER_BITS;
+        Some(
+            if b.1 & WIDE != 0 && [a2, a, c, c2].iter().all(|&p| class(p) == class(b)) {
+                mix5(a2.0, a.0, b.0, c.0, c2.0)
+            } else if low != 0 && a.1 & 3 == low && c.1 & 3 == low {
+                mix(a.0, b.0, c.0)
+            } else {
+                b.0
+            },
+        )
     }
 }
 
