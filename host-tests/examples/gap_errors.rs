@@ -30,7 +30,7 @@ fn main() {
             .zip(&truth.pixels)
             .enumerate()
             .map(|(i, (c, t))| {
-                let d = |x: u8, y: u8| (x as f64 - y as f64);
+                let d = |x: u8, y: u8| x as f64 - y as f64;
                 let e = [d(c.r(), t.r()), d(c.g(), t.g()), d(c.b(), t.b())];
                 rows[i / w as usize] += e.iter().map(|x| x * x).sum::<f64>() / 3.0;
                 let s = |x: f64| (x.abs() * 8.0).min(255.0) as u8;

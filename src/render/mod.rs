@@ -825,7 +825,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             most.max(check)
         } else if self.adaptive && self.samples >= ADAPTIVE_BUDGET_POINT {
             // Below the small pilot: a fixed stratified budget, 40 % of `point`.
-            match self.budget256 {
+            // No gaps without the filter (the micro:bit's flash).
+            let budget = if cfg!(feature = "no-scanline-filter") { 0 } else { self.budget256 };
+            match budget {
                 0 => dithered_budget(self.samples, col, row),
                 // Anchors every `gap_period` columns: their own full dither.
                 b => dithered_ratio(b, 256, col / self.gap_period.max(1), row).min(self.samples),
