@@ -95,13 +95,13 @@ const _: () = assert!(scanline::FILTER_MIN_POINT == ADAPTIVE_BUDGET_POINT);
 const _: () = assert!(scanline::SMALL_PILOT_POINT == ADAPTIVE_EIGHT_POINT);
 
 /// The fewest samples with a ray budget (adaptive on, below
-/// [`ADAPTIVE_MIN_POINT`]: every pixel takes 40 % of `point`, dithered
-/// between powers of two, [`dithered_budget`]), and with it the scanline
-/// filter. At 3 and 4 that is 1.19 and 1.56 rays: with the filter it met
-/// both floors on 30 and 31 of 60 generated scenes at 80×60 (9 and 11 of 20
-/// at 320×240), where taking every sample meets none (100 % of `point`);
-/// without the filter, 7 and 9 of 60. At 1 and 2, 40 % is under the one ray
-/// a pixel needs.
+/// [`ADAPTIVE_MIN_POINT`]: the pixels that cast rays share 40 % of `point`
+/// a pixel, dithered between powers of two, and rows are filtered and have
+/// gaps: see [`Renderer::gap_period`] and [`scanline::fills`]). Every
+/// `point`: where some pixels cast no ray, 40 % of 1 or 2 is within reach.
+/// Seeds 8600-8619, 8700-8719, 8800-8819 at 320×240 met both floors at
+/// `point` 1 to 9 on 487 of 540 frames with gaps (at 1 and 2 on 84 of 120,
+/// where every pixel taking its samples meets none).
 pub const ADAPTIVE_BUDGET_POINT: u32 = 1;
 
 /// The pilot of a pixel with `samples` lens samples: the largest power of two
@@ -532,10 +532,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     }
 
     /// Sets [`Renderer::gap_period`] and [`Renderer::budget256`] from a
-    /// survey of gaps on a grid of spacing `s` (at least 16): for a period,
-    /// one pair of neighbouring anchors in each cell is rendered at 40 % of
+    /// survey of gaps on a grid of spacing `s` (doubled while a pass's pairs
+    /// could cast more than 1/32 of the frame's budget or are more than
+    /// 512; no survey, and no
+    /// gaps, under 16 pairs): for a period (one that could leave a ray a
+    /// pixel if every gap filled), one pair of neighbouring anchors in each cell is rendered at 40 % of
     /// `point`, and the share F of pairs whose gaps [`scanline::fills`]
-    /// fills, less one binomial deviation, frees F G pixels, G the frame's
+    /// fills, less two binomial deviations, frees F G pixels, G the frame's
     /// gaps between two anchors; the pixels that cast rays share what the
     /// frame's budget (40 % of `point` a pixel) leaves after the survey's
     /// rays. Above one sample, the pairs are rendered again at that budget
@@ -546,11 +549,30 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let (cols, rows) = (self.camera.cols(), self.camera.rows());
         let pixels = cols as u64 * rows as u64;
         let mut rays = 0u64;
-        // A survey of a few hundred pairs: its rays are a small share of a frame's at `point` 1.
-        let s = s.max(16);
+        // A pass's pairs cast at most 1/32 of the frame's budget (two anchors
+        // at 40 % of `point`, a ray at least), there are at most 512 of them
+        // (large frames: a set-up's cost) and 16 or more.
+        let per_pair = 2 * (2 * self.samples as u64).div_ceil(5);
+        let mut s = s;
+        let pairs = |s: u32| (cols / s) as u64 * (rows / s) as u64;
+        while pairs(s) > 512 || pairs(s) * per_pair * 32 * 5 > 2 * self.samples as u64 * pixels {
+            s = match s.checked_mul(2) {
+                Some(s) => s,
+                None => return self,
+            };
+        }
+        if (cols / s) * (rows / s) < 16 {
+            return self;
+        }
         for period in GAP_PERIODS {
             self.budget256 = 0;
             self.gap_period = period;
+            // A period whose every gap filled would leave under a ray a pixel
+            // is not surveyed (`point` 1 at 2).
+            let left = (2 * self.samples as u64 * pixels).saturating_sub(5 * rays);
+            if period < *GAP_PERIODS.end() && left < 5 * (pixels - self.fillable_gaps()) {
+                continue;
+            }
             let mut least = u64::MAX;
             for pass in 0..2 {
                 if pass == 1 && self.samples == 1 {
@@ -580,8 +602,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     self.budget256 = 0;
                     return self;
                 }
+                // Two binomial deviations, rounded up, below the count.
                 let var = (filled * (tested - filled)).div_ceil(tested);
-                let sigma = crate::number::wide::isqrt_rem_u64(var).0 + 1;
+                let sigma = crate::number::wide::isqrt_rem_u64(4 * var).0 + 1;
                 // In 65536ths of the pairs tested.
                 least = least.min((filled.saturating_sub(sigma) << 16) / tested);
                 // Rays left: 2 p N / 5 − R; pixels casting: N − F G.
@@ -619,14 +642,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             .sum()
     }
 
-    /// The rays a pixel casts below [`ADAPTIVE_MIN_POINT`] with gaps, in 256ths (0: none set).
-    #[doc(hidden)]
+    /// The rays a pixel that casts any takes below [`ADAPTIVE_MIN_POINT`]
+    /// with gaps, in 256ths, before its dither (0: none set, 40 % of `point`).
     pub fn gap_budget(&self) -> u32 {
         self.budget256
     }
 
-    /// Anchors every this many columns below [`ADAPTIVE_MIN_POINT`] (see [`scanline::fills`]); 0: no gaps.
-    #[doc(hidden)]
+    /// Anchors every this many columns below [`ADAPTIVE_MIN_POINT`] (see
+    /// [`scanline::fills`]), from the gap survey; 0: no gaps.
     pub fn gap_period(&self) -> u32 {
         self.gap_period
     }
@@ -658,6 +681,27 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         }
         self.samples = samples;
         self.surveyed()
+    }
+
+    /// [`Renderer::with_samples`] without a survey where the count changes:
+    /// the cap is 40 % of `samples` and rows have no gaps. For a progressive
+    /// preview (its blocks are single pixels): a survey a band would cost
+    /// more than the preview.
+    pub(crate) fn with_samples_unsurveyed(mut self, samples: u32) -> Self {
+        let samples = samples.clamp(1, 65535);
+        if samples != self.samples {
+            // As `unsurveyed` leaves them.
+            self.samples = samples;
+            self.cap = adaptive_limit(samples);
+            (
+                self.survey_rays,
+                self.spread,
+                self.floor,
+                self.budget256,
+                self.gap_period,
+            ) = (0, 0, 0, 0, 0);
+        }
+        self
     }
 
     /// Turns adaptive lens sampling on or off (the scene's `adaptive`
@@ -826,7 +870,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         } else if self.adaptive && self.samples >= ADAPTIVE_BUDGET_POINT {
             // Below the small pilot: a fixed stratified budget, 40 % of `point`.
             // No gaps without the filter (the micro:bit's flash).
-            let budget = if cfg!(feature = "no-scanline-filter") { 0 } else { self.budget256 };
+            let budget = if cfg!(feature = "no-scanline-filter") {
+                0
+            } else {
+                self.budget256
+            };
             match budget {
                 0 => dithered_budget(self.samples, col, row),
                 // Anchors every `gap_period` columns: their own full dither.

@@ -205,7 +205,7 @@ where
     D: DrawTarget,
     D::Color: From<Rgb888>,
 {
-    let renderer = renderer.clone().with_samples(pass.samples);
+    let renderer = pass_renderer(renderer, pass);
     let step = pass.step.max(1);
     for row in (0..renderer.camera().rows()).step_by(step as usize) {
         draw_band(&renderer, target, pass, row)?;
@@ -230,7 +230,14 @@ where
     D: DrawTarget,
     D::Color: From<Rgb888>,
 {
-    draw_band(&renderer.clone().with_samples(pass.samples), target, pass, row)
+    draw_band(&pass_renderer(renderer, pass), target, pass, row)
+}
+
+/// The renderer of `pass`: `renderer` itself at its own samples, else (a
+/// preview) at the pass's without a set-up survey, which a band at a time
+/// would repeat for every band.
+fn pass_renderer<'a, S: Scalar>(renderer: &Renderer<'a, S>, pass: &Pass) -> Renderer<'a, S> {
+    renderer.clone().with_samples_unsurveyed(pass.samples)
 }
 
 /// The work of [`render_pass_row`], with the pass's sample count already set.

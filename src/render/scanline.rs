@@ -37,8 +37,13 @@
 //! against ½) and the picture's curvature falls with the square of the
 //! blur, so its bias is at most half the 3-tap's at its own gate.
 //!
-//! Five pixels of state, no row buffer: [`Scanline`] yields a row's pixels
-//! in order, two pixels ahead. The gate is the same comparison in either number
+//! Gaps (below `point` 10, where a frame's budget is a ray or two a pixel):
+//! anchors every 2 to 4 columns, and the columns between two anchors cast
+//! no ray where the anchors say the picture is a line there (see [`fills`]);
+//! the rays they leave go to the pixels that cast (`Renderer::gap_period`).
+//!
+//! Five pixels of state and one anchor ahead, no row buffer: [`Scanline`]
+//! yields a row's pixels in order, two pixels ahead (and an anchor). The gate is the same comparison in either number
 //! type and the mix is in integers on the 8-bit pixels. On with the default
 //! stratified, adaptive sampling (from [`FILTER_MIN_POINT`] samples), off
 //! with `sampler independent` or `adaptive off`: see
@@ -86,12 +91,12 @@ pub const WIDE_COC_FACTOR: i32 = 2;
 pub const WIDE: u8 = 4;
 
 /// The fewest samples a pixel must have for rows to be filtered: wherever
-/// there is a ray budget (`ADAPTIVE_BUDGET_POINT`, asserted where both are
-/// seen). From 10 rather than 20 it gained on 28 of 29 changed seeds of
-/// 1000, 3000, 6000-6059 at 80x60; from 5 rather than 10 on all 13 changed
-/// there and in 8200-8239 (6007 +4.3 dB, 1050 -3.82 -> +0.20 dB against
-/// `point` independent samples), and at 3 and 4 it is what lets the one- or
-/// two-ray budget meet the floors at all (see `ADAPTIVE_BUDGET_POINT`).
+/// there is a ray budget, every `point` (`ADAPTIVE_BUDGET_POINT`, asserted
+/// where both are seen). From 10 rather than 20 it gained on 28 of 29 changed
+/// seeds of 1000, 3000, 6000-6059 at 80x60; from 5 rather than 10 on all 13
+/// changed there and in 8200-8239 (6007 +4.3 dB, 1050 -3.82 -> +0.20 dB
+/// against `point` independent samples); at 1 to 4 it is what lets a ray or
+/// two a pixel meet the floors at all, with gaps.
 pub const FILTER_MIN_POINT: u32 = 1;
 
 /// K / T: the circle of confusion of a point at infinity in pixels of an
@@ -228,7 +233,10 @@ fn interpolate(left: (Rgb888, u8), right: (Rgb888, u8), d: u32, period: u32) -> 
 /// every lamp's hit passed its gate: then 2), else 1 if they all met lamps,
 /// 2 if none did, with [`WIDE`] where every ray passed the 5-tap's gate. A
 /// pixel is filtered where it and both neighbours share a class other than
-/// 0 (the 5-tap where it and two each side share one with [`WIDE`]).
+/// 0 (the 5-tap where it and two each side share one with [`WIDE`]); the
+/// filter ignores [`TEXTURED`], which only gaps read. With gaps
+/// ([`Scanline::with_gaps`]) a gap's columns are rendered after the anchor
+/// on their right, or not at all.
 pub struct Scanline<F> {
     pixel: F,
     /// The next column to yield.
@@ -430,6 +438,94 @@ mod tests {
         assert!(
             mixed > 50 && wide_mixed > 20 && kept > 50,
             "{mixed} mixed, {wide_mixed} wide, {kept} kept"
+        );
+    }
+
+    /// Random rows with gaps of every period and phase: a gap's columns cast
+    /// no ray exactly where both its anchors are in the row and [`fills`]
+    /// holds for them, and then take the rounded line between them; every
+    /// other column is rendered once, a gap's after the anchor on its right;
+    /// the rays are those of the columns rendered, and the row is filtered as
+    /// a row of those pixels without gaps would be.
+    #[test]
+    fn a_gap_casts_no_ray_exactly_where_its_anchors_fill_it() {
+        let mut next = crate::test_rng::xorshift32(0x6a95_0001);
+        let (mut filled, mut rendered_gaps) = (0, 0);
+        for len in 1..80u32 {
+            let period = 2 + next() % 3;
+            let phase = next() % period;
+            // Runs of near colours and classes, so that both answers occur.
+            let mut base = [0u8; 3];
+            let mut class = 0u8;
+            let row: std::vec::Vec<(Rgb888, u32, u8)> = (0..len)
+                .map(|_| {
+                    if next().is_multiple_of(4) {
+                        base = [next() as u8, next() as u8, next() as u8];
+                        class = [0, 2, 6, 5, 8, 14, 1][(next() % 7) as usize];
+                    }
+                    let mut jitter = |b: u8| b.saturating_add((next() % 3) as u8);
+                    let c = Rgb888::new(jitter(base[0]), jitter(base[1]), jitter(base[2]));
+                    (c, 1 + next() % 5, class)
+                })
+                .collect();
+            // The model: which columns are filled, and the pixels before the filter.
+            let mut expected: std::vec::Vec<(Rgb888, u32, u8)> = row.clone();
+            let mut cast = vec![true; len as usize];
+            for k in 0..len {
+                let offset = (k + period - phase) % period;
+                let (l, r) = (k.checked_sub(offset), k + period - offset);
+                if offset == 0 || l.is_none() || r >= len {
+                    continue;
+                }
+                let (l, r) = (row[l.unwrap() as usize], row[r as usize]);
+                if fills((l.0, l.2), (r.0, r.2)) {
+                    let (c, class) = interpolate((l.0, l.2), (r.0, r.2), offset, period);
+                    let want = |x: u8, y: u8| {
+                        ((x as f64 * (period - offset) as f64 + y as f64 * offset as f64) / period as f64 + 0.5).floor()
+                            as u8
+                    };
+                    assert_eq!(
+                        c,
+                        Rgb888::new(want(l.0.r(), r.0.r()), want(l.0.g(), r.0.g()), want(l.0.b(), r.0.b()))
+                    );
+                    expected[k as usize] = (c, 0, class);
+                    cast[k as usize] = false;
+                    filled += 1;
+                } else {
+                    rendered_gaps += 1;
+                }
+            }
+            let mut asked = std::vec::Vec::new();
+            let mut line = Scanline::new(
+                |col| {
+                    asked.push(col);
+                    row[col as usize]
+                },
+                len,
+            )
+            .with_gaps(Some((period, phase)));
+            let out: std::vec::Vec<Rgb888> = (&mut line).collect();
+            let rays: u32 = row.iter().zip(&cast).filter(|(_, &c)| c).map(|(p, _)| p.1).sum();
+            assert_eq!(line.rays(), rays, "len {len} period {period} phase {phase}");
+            let mut sorted = asked.clone();
+            sorted.sort();
+            let want: std::vec::Vec<u32> = (0..len).filter(|&k| cast[k as usize]).collect();
+            assert_eq!(sorted, want, "each column cast is rendered once");
+            for (i, &k) in asked.iter().enumerate() {
+                // A column rendered out of order is an anchor with a gap just left of it.
+                if let Some(&later) = asked[i + 1..].iter().find(|&&j| j < k) {
+                    assert!(
+                        (later + period - phase) % period != 0 && k - later < period,
+                        "{asked:?}"
+                    );
+                }
+            }
+            let plain: std::vec::Vec<Rgb888> = Scanline::new(|col| expected[col as usize], len).collect();
+            assert_eq!(out, plain, "len {len} period {period} phase {phase}");
+        }
+        assert!(
+            filled > 100 && rendered_gaps > 100,
+            "{filled} filled, {rendered_gaps} rendered"
         );
     }
 

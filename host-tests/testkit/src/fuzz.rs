@@ -157,12 +157,13 @@ fn render_tiny<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, samples: u32) -> Res
                 canvas.fault.clone().unwrap_or_else(|| "a pixel was missed".into())
             ));
         }
-        // The same pixel asked alone gives the same colour: nothing depends on order.
+        // The same row asked alone gives the same colours: nothing depends on
+        // the order of rows (a row's pixels are filtered and have gaps together).
         if top_left == Point::zero()
-            && canvas.pixels[(h / 2 * w + w / 2) as usize] != Some(renderer.pixel(w / 2, h / 2))
+            && canvas.pixels[(h / 2 * w + w / 2) as usize] != renderer.scanline(h / 2, w).nth(w as usize / 2)
         {
             return Err(format!(
-                "{} pixel ({}, {}) differs between render and pixel()",
+                "{} pixel ({}, {}) differs between render and its row alone",
                 S::NAME,
                 w / 2,
                 h / 2
