@@ -5,12 +5,11 @@
 //! ```sh
 //! bash scripts/adaptive-campaign.sh [FIRST_SEED] [SEEDS] [WIDTH] [REFERENCE]
 //! ```
-//! Defaults: seeds 1..=40, 160x120, 1024 reference samples. A seed whose
-//! `point` is 1 or 2 is listed but not judged: 40 % of it is under one ray
-//! a pixel. From 3 (
-//! [`lensray::unstable::render::ADAPTIVE_BUDGET_POINT`]) every seed is
-//! judged. The summary counts every judged seed, then those of `point`
-//! below 20 alone.
+//! Defaults: seeds 1..=40, 160x120, 1024 reference samples. Every seed is
+//! judged, `point` 1 and 2 too (from
+//! [`lensray::unstable::render::ADAPTIVE_BUDGET_POINT`], 1: gaps, pixels
+//! that cast no ray, bring them within 40 %). The summary counts every
+//! judged seed, then those of `point` below 20 alone.
 
 use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
@@ -139,8 +138,7 @@ fn main() {
         } else {
             def.psnr - ind.psnr
         };
-        // 40 % of `point` is a ray or more.
-        let judge = point >= 3;
+        let judge = point >= lensray::unstable::render::ADAPTIVE_BUDGET_POINT;
         let ok = margin >= 0.0 && share <= 0.4;
         for t in tally.iter_mut().take(if point < 20 { 2 } else { 1 }).filter(|_| judge) {
             t.0 += 1;
