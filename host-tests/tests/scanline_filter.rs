@@ -171,11 +171,10 @@ fn the_filter_acts_only_where_everything_is_far_out_of_focus() {
         if q.camera.radius <= 0.0 {
             continue;
         }
-        // The default render whatever the scene says; at least the adaptive minimum.
-        let point = q
-            .camera
-            .samples
-            .max(lensray::unstable::render::scanline::FILTER_MIN_POINT);
+        // The default render whatever the scene says; at least the adaptive
+        // minimum (below it rows have gaps: their pixels are not the pixel alone,
+        // see the scanline module's gap test).
+        let point = q.camera.samples.max(lensray::unstable::render::ADAPTIVE_MIN_POINT);
         q.camera.sampler = Sampler::Stratified;
         q.camera.adaptive = true;
         q.camera.samples = point;

@@ -807,7 +807,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     }
 
     /// The first `cols` pixels (at most the image width) of row `row` as the
-    /// picture has them: filtered where far out of focus (see [`scanline`]).
+    /// picture has them: filtered where far out of focus, with gaps below
+    /// [`ADAPTIVE_MIN_POINT`] (see [`scanline`]).
     pub fn scanline(&self, row: u32, cols: u32) -> scanline::Scanline<impl FnMut(u32) -> (Rgb888, u32, u8) + '_> {
         scanline::Scanline::new(move |col| self.pixel_far(col, row), cols.min(self.camera.cols()))
             .with_filter(self.filters())

@@ -515,7 +515,7 @@ mod tests {
                 // A column rendered out of order is an anchor with a gap just left of it.
                 if let Some(&later) = asked[i + 1..].iter().find(|&&j| j < k) {
                     assert!(
-                        (later + period - phase) % period != 0 && k - later < period,
+                        !(later + period - phase).is_multiple_of(period) && k - later < period,
                         "{asked:?}"
                     );
                 }
