@@ -50,15 +50,7 @@ fn sweep(first: u64, count: u64, w: u32, h: u32, ref_n: u32, lo: u32, hi: u32) {
             if scene.camera.radius == 0.0 {
                 continue;
             }
-            let text: String = std::iter::once(format!("point {p}"))
-                .chain(
-                    generated
-                        .lines()
-                        .filter(|l| l.split_whitespace().next() != Some("point"))
-                        .map(str::to_string),
-                )
-                .collect::<Vec<_>>()
-                .join("\n");
+            let text = lensray_host::convergence::with_point(&generated, p);
             let (_, ind, def, flat) = judged(&text, w, h, ref_n, p);
             let share = def.rays / p as f64;
             let margin = if def.psnr.is_infinite() {

@@ -11,14 +11,7 @@ fn main() {
     let (seed, p, w): (u64, u32, u32) = (a[1].parse().unwrap(), a[2].parse().unwrap(), a[3].parse().unwrap());
     let h = w * 3 / 4;
     let g = lensray_testkit::scenegen::generate_lens(seed);
-    let text: String = std::iter::once(format!("point {p}"))
-        .chain(
-            g.lines()
-                .filter(|l| l.split_whitespace().next() != Some("point"))
-                .map(str::to_string),
-        )
-        .collect::<Vec<_>>()
-        .join("\n");
+    let text = lensray_host::convergence::with_point(&g, p);
     let truth = reference(&text, w, h, 1024, Sampler::Stratified).unwrap();
     let (ours, _) = render_text(&text, w, h, Setting::default_render(p), false).unwrap();
     let (ind, _) = render_text(&text, w, h, Setting::independent(p), false).unwrap();

@@ -8,14 +8,7 @@ fn main() {
     let h = w * 3 / 4;
     for seed in first..first + count {
         let g = lensray_testkit::scenegen::generate_lens(seed);
-        let text: String = std::iter::once(format!("point {p}"))
-            .chain(
-                g.lines()
-                    .filter(|l| l.split_whitespace().next() != Some("point"))
-                    .map(str::to_string),
-            )
-            .collect::<Vec<_>>()
-            .join("\n");
+        let text = lensray_host::convergence::with_point(&g, p);
         let scene = Scene::<I16F16>::parse(&text).unwrap();
         let r = Renderer::new(&scene, w, h);
         let mut rays = 0u64;

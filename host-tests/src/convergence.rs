@@ -125,3 +125,16 @@ pub fn measure(text: &str, reference: &Image, setting: Setting) -> Result<Point,
     let psnr = Diff::of(&img, reference).ok_or("sizes differ")?.psnr;
     Ok(Point { psnr, rays })
 }
+
+/// `text` with its `point` statement replaced by `point N` (first): the same
+/// scene at another sample count (campaigns at every `point`).
+pub fn with_point(text: &str, point: u32) -> String {
+    std::iter::once(format!("point {point}"))
+        .chain(
+            text.lines()
+                .filter(|l| l.split_whitespace().next() != Some("point"))
+                .map(str::to_string),
+        )
+        .collect::<Vec<_>>()
+        .join("\n")
+}

@@ -381,6 +381,23 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Iterator for Scanline<F> {
 mod tests {
     use super::*;
 
+    /// A row of given pixels through a [`Scanline`] (with `gaps`): what it
+    /// yields, the columns it asked for in order, and the rays it counted.
+    fn run(row: &[(Rgb888, u32, u8)], gaps: Option<(u32, u32)>) -> (Vec<Rgb888>, Vec<u32>, u32) {
+        let mut asked = Vec::new();
+        let mut line = Scanline::new(
+            |col| {
+                asked.push(col);
+                row[col as usize]
+            },
+            row.len() as u32,
+        )
+        .with_gaps(gaps);
+        let out: Vec<Rgb888> = (&mut line).collect();
+        let rays = line.rays();
+        (out, asked, rays)
+    }
+
     /// Random rows of random classes: a pixel is the 5-tap mix exactly where
     /// it and its four neighbours share a class with [`WIDE`], else the 3-tap
     /// mix where it and both neighbours share a lamp class other than 0 (never
@@ -402,16 +419,8 @@ mod tests {
                     (c, next() % 70, class)
                 })
                 .collect();
-            let mut asked = std::vec::Vec::new();
-            let mut line = Scanline::new(
-                |col| {
-                    asked.push(col);
-                    row[col as usize]
-                },
-                len,
-            );
-            let out: std::vec::Vec<Rgb888> = (&mut line).collect();
-            assert_eq!(line.rays(), row.iter().map(|p| p.1).sum::<u32>());
+            let (out, asked, rays) = run(&row, None);
+            assert_eq!(rays, row.iter().map(|p| p.1).sum::<u32>());
             assert_eq!(asked, (0..len).collect::<std::vec::Vec<_>>());
             for c in 0..len as usize {
                 let inner = c > 0 && c + 1 < len as usize;
@@ -495,18 +504,9 @@ mod tests {
                     rendered_gaps += 1;
                 }
             }
-            let mut asked = std::vec::Vec::new();
-            let mut line = Scanline::new(
-                |col| {
-                    asked.push(col);
-                    row[col as usize]
-                },
-                len,
-            )
-            .with_gaps(Some((period, phase)));
-            let out: std::vec::Vec<Rgb888> = (&mut line).collect();
+            let (out, asked, line_rays) = run(&row, Some((period, phase)));
             let rays: u32 = row.iter().zip(&cast).filter(|(_, &c)| c).map(|(p, _)| p.1).sum();
-            assert_eq!(line.rays(), rays, "len {len} period {period} phase {phase}");
+            assert_eq!(line_rays, rays, "len {len} period {period} phase {phase}");
             let mut sorted = asked.clone();
             sorted.sort();
             let want: std::vec::Vec<u32> = (0..len).filter(|&k| cast[k as usize]).collect();
