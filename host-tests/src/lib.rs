@@ -52,7 +52,8 @@ pub fn render_image_as_microbit<S: Scalar + Send + Sync>(
 ) -> Image {
     let mut scene = scene.clone();
     scene.set_exact_retakes(false);
-    let renderer = Renderer::new_with_samples(&scene, width, height, samples);
+    // No gaps: the micro:bit has no filter and takes no gap survey.
+    let renderer = Renderer::new_with_samples(&scene, width, height, samples).without_gaps();
     let mut pixels = vec![Rgb888::BLACK; width as usize * height as usize];
     if width > 0 {
         pixels

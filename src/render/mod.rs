@@ -704,6 +704,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         self
     }
 
+    /// This renderer without gaps (see [`Renderer::gap_period`]): its
+    /// pixels as a build without the scanline filter (the micro:bit's, which
+    /// takes no gap survey) renders them, 40 % of `point` each.
+    pub fn without_gaps(mut self) -> Self {
+        (self.budget256, self.gap_period) = (0, 0);
+        self
+    }
+
     /// Turns adaptive lens sampling on or off (the scene's `adaptive`
     /// statement sets the default; see [`Renderer::pixel_rays`]); surveys
     /// again only on a change.
