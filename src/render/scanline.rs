@@ -195,6 +195,9 @@ pub const TEXTURED: u8 = 8;
 /// The class bits the filter compares: the lamp classes and [`WIDE`].
 const FILTER_BITS: u8 = 3 | WIDE;
 
+/// [`GAP_LEVELS`] of the loose rule, on any surface.
+pub const GAP_LOOSE_LEVELS: u8 = 8;
+
 /// The most a gap's two anchors may differ, in levels on every channel, for
 /// the gap to take their mean whatever their classes (see [`fills`]).
 pub const GAP_LEVELS: u8 = 1;
@@ -203,13 +206,17 @@ pub const GAP_LEVELS: u8 = 1;
 /// class) cast no ray and take the line between them: where both see only
 /// what is spread over twice the filter's gate (the 5-tap's class: the
 /// picture is nearly linear over a few pixels there) and share a lamp class,
-/// or where their colours are within [`GAP_LEVELS`] on every channel.
+/// or where their colours are within [`GAP_LEVELS`] on every channel and
+/// neither met a checker (unless both are out of focus). `loose`: within
+/// [`GAP_LOOSE_LEVELS`] on any surface, for frames where the strict rule
+/// fills too few gaps to leave a ray a pixel (see `Renderer::gap_period`).
 #[inline]
-pub fn fills(left: (Rgb888, u8), right: (Rgb888, u8)) -> bool {
+pub fn fills(left: (Rgb888, u8), right: (Rgb888, u8), loose: bool) -> bool {
     let (a, b) = (left.0, right.0);
-    let close = |x: u8, y: u8| x.abs_diff(y) <= GAP_LEVELS;
+    let levels = if loose { GAP_LOOSE_LEVELS } else { GAP_LEVELS };
+    let close = |x: u8, y: u8| x.abs_diff(y) <= levels;
     // A checker may hide a square between two anchors of one colour.
-    let smooth = (left.1 | right.1) & TEXTURED == 0 || left.1 & right.1 & 3 != 0;
+    let smooth = loose || (left.1 | right.1) & TEXTURED == 0 || left.1 & right.1 & 3 != 0;
     let near = smooth && close(a.r(), b.r()) && close(a.g(), b.g()) && close(a.b(), b.b());
     let (l, r) = (left.1 & FILTER_BITS, right.1 & FILTER_BITS);
     let far = l & 3 != 0 && l & WIDE != 0 && l == r;
@@ -250,7 +257,7 @@ pub struct Scanline<F> {
     /// Whether the row is filtered at all; without it each pixel is passed on as it comes.
     filter: bool,
     /// Gaps (see [`fills`]): anchors every `period` columns from `phase`, or `None`.
-    gaps: Option<(u32, u32)>,
+    gaps: Option<(u32, u32, bool)>,
     /// The last anchor fetched: its column and pixel.
     left: (u32, (Rgb888, u8)),
     /// The anchor right of the gaps being fetched, rendered before them.
@@ -286,16 +293,16 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Scanline<F> {
     /// ... (`period` 2 to 4); the columns between two anchors cast no ray and
     /// take the line between them where [`fills`] allows, else are rendered,
     /// after the anchor on their right. Filtered rows only.
-    pub fn with_gaps(mut self, gaps: Option<(u32, u32)>) -> Self {
+    pub fn with_gaps(mut self, gaps: Option<(u32, u32, bool)>) -> Self {
         self.gaps = gaps
-            .filter(|&(period, _)| period >= 2)
-            .map(|(period, phase)| (period, phase % period));
+            .filter(|&(period, _, _)| period >= 2)
+            .map(|(period, phase, loose)| (period, phase % period, loose));
         self
     }
 
     /// Column `k` as rendered or filled (`k` = 0, 1, 2 ... in turn).
     fn fetch(&mut self, k: u32) -> (Rgb888, u8) {
-        let Some((period, phase)) = self.gaps else {
+        let Some((period, phase, loose)) = self.gaps else {
             return self.render(k);
         };
         let offset = (k + period - phase) % period;
@@ -315,7 +322,7 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Scanline<F> {
             if k >= offset && next < self.cols {
                 let p = self.render(next);
                 self.right = Some((next, p));
-                self.fill = fills(self.left.1, p);
+                self.fill = fills(self.left.1, p, loose);
             }
         }
         match self.right {
@@ -383,7 +390,7 @@ mod tests {
 
     /// A row of given pixels through a [`Scanline`] (with `gaps`): what it
     /// yields, the columns it asked for in order, and the rays it counted.
-    fn run(row: &[(Rgb888, u32, u8)], gaps: Option<(u32, u32)>) -> (Vec<Rgb888>, Vec<u32>, u32) {
+    fn run(row: &[(Rgb888, u32, u8)], gaps: Option<(u32, u32, bool)>) -> (Vec<Rgb888>, Vec<u32>, u32) {
         let mut asked = Vec::new();
         let mut line = Scanline::new(
             |col| {
@@ -463,6 +470,7 @@ mod tests {
         for len in 1..80u32 {
             let period = 2 + next() % 3;
             let phase = next() % period;
+            let loose = next().is_multiple_of(3);
             // Runs of near colours and classes, so that both answers occur.
             let mut base = [0u8; 3];
             let mut class = 0u8;
@@ -487,7 +495,7 @@ mod tests {
                     continue;
                 }
                 let (l, r) = (row[l.unwrap() as usize], row[r as usize]);
-                if fills((l.0, l.2), (r.0, r.2)) {
+                if fills((l.0, l.2), (r.0, r.2), loose) {
                     let (c, class) = interpolate((l.0, l.2), (r.0, r.2), offset, period);
                     let want = |x: u8, y: u8| {
                         ((x as f64 * (period - offset) as f64 + y as f64 * offset as f64) / period as f64 + 0.5).floor()
@@ -504,7 +512,7 @@ mod tests {
                     rendered_gaps += 1;
                 }
             }
-            let (out, asked, line_rays) = run(&row, Some((period, phase)));
+            let (out, asked, line_rays) = run(&row, Some((period, phase, loose)));
             let rays: u32 = row.iter().zip(&cast).filter(|(_, &c)| c).map(|(p, _)| p.1).sum();
             assert_eq!(line_rays, rays, "len {len} period {period} phase {phase}");
             let mut sorted = asked.clone();
