@@ -402,12 +402,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// runs again under C to measure what the unsettled pixels take, and what
     /// that leaves, with margins, sets [`Renderer::floor`]. Set-up only, in integers.
     fn surveyed(mut self) -> Self {
-        self.cap = adaptive_limit(self.samples);
-        self.survey_rays = 0;
-        self.spread = 0;
-        self.floor = 0;
-        self.budget256 = 0;
-        self.gap_period = 0;
+        self.clear_survey();
         let (cols, rows) = (self.camera.cols(), self.camera.rows());
         let stride = survey_stride(cols, rows, self.samples);
         if let (true, Some(s)) = (self.gaps(), stride) {
@@ -553,6 +548,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let (cols, rows) = (self.camera.cols(), self.camera.rows());
         let pixels = cols as u64 * rows as u64;
         let mut rays = 0u64;
+        // Rays the frame's budget leaves after `rays`, times 5: 2 p N − 5 R.
+        let left = |rays: u64| (2 * self.samples as u64 * pixels).saturating_sub(5 * rays);
         // A pass's pairs cast at most 1/32 of the frame's budget (two anchors
         // at 40 % of `point`, a ray at least), there are at most 512 of them
         // (large frames: a set-up's cost) and 16 or more.
@@ -565,7 +562,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 None => return self,
             };
         }
-        if (cols / s) * (rows / s) < 16 {
+        if pairs(s) < 16 {
             return self;
         }
         // The longest period again with the loose rule where none leaves a ray a pixel.
@@ -574,8 +571,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             self.gap_period = period | (loose as u32) << 8;
             // A period whose every gap filled would leave under a ray a pixel
             // is not surveyed (`point` 1 at 2).
-            let left = (2 * self.samples as u64 * pixels).saturating_sub(5 * rays);
-            if period < *GAP_PERIODS.end() && left < 5 * (pixels - self.fillable_gaps()) {
+            if period < *GAP_PERIODS.end() && left(rays) < 5 * (pixels - self.fillable_gaps()) {
                 continue;
             }
             let mut least = u64::MAX;
@@ -603,19 +599,16 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     }
                 }
                 if tested == 0 {
-                    self.gap_period = 0;
-                    self.budget256 = 0;
-                    return self;
+                    return self.without_gaps();
                 }
                 // Two binomial deviations, rounded up, below the count.
                 let var = (filled * (tested - filled)).div_ceil(tested);
                 let sigma = crate::number::wide::isqrt_rem_u64(4 * var).0 + 1;
                 // In 65536ths of the pairs tested.
                 least = least.min((filled.saturating_sub(sigma) << 16) / tested);
-                // Rays left: 2 p N / 5 − R; pixels casting: N − F G.
-                let left = (2 * self.samples as u64 * pixels).saturating_sub(5 * rays);
+                // Rays left over the pixels casting, N − F G.
                 let casting = 5 * ((pixels << 16) - least * self.fillable_gaps());
-                let b256 = (left * 256 * (1 << 16) / casting.max(1)).min(256 * self.samples as u64);
+                let b256 = (left(rays) * 256 * (1 << 16) / casting.max(1)).min(256 * self.samples as u64);
                 self.budget256 = (b256 as u32).max(1);
             }
             if self.budget256 >= 256 {
@@ -631,7 +624,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let (cols, rows, period) = (
             self.camera.cols() as u64,
             self.camera.rows() as u64,
-            (self.gap_period & 0xFF) as u64,
+            self.gap_period() as u64,
         );
         (0..period.min(rows))
             .map(|phase| {
@@ -700,18 +693,18 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     pub(crate) fn with_samples_unsurveyed(mut self, samples: u32) -> Self {
         let samples = samples.clamp(1, 65535);
         if samples != self.samples {
-            // As `unsurveyed` leaves them.
             self.samples = samples;
-            self.cap = adaptive_limit(samples);
-            (
-                self.survey_rays,
-                self.spread,
-                self.floor,
-                self.budget256,
-                self.gap_period,
-            ) = (0, 0, 0, 0, 0);
+            self.clear_survey();
         }
         self
+    }
+
+    /// What a survey sets, as a renderer without one has it: the cap 40 % of
+    /// `point`, no spare floor, no gaps.
+    fn clear_survey(&mut self) {
+        self.cap = adaptive_limit(self.samples);
+        (self.survey_rays, self.spread, self.floor) = (0, 0, 0);
+        (self.budget256, self.gap_period) = (0, 0);
     }
 
     /// This renderer without gaps (see [`Renderer::gap_period`]): its
@@ -831,8 +824,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         scanline::Scanline::new(move |col| self.pixel_far(col, row), cols.min(self.camera.cols()))
             .with_filter(self.filters())
             .with_gaps(self.gaps().then(|| {
-                let period = self.gap_period & 0xFF;
-                (period, gap_phase(row, period), self.gap_period >> 8 != 0)
+                let period = self.gap_period();
+                (period, gap_phase(row, period), self.gap_loose())
             }))
     }
 
@@ -900,7 +893,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             match budget {
                 0 => dithered_budget(self.samples, col, row),
                 // Anchors every `gap_period` columns: their own full dither.
-                b => dithered_ratio(b, 256, col / (self.gap_period & 0xFF).max(1), row).min(self.samples),
+                b => dithered_ratio(b, 256, col / self.gap_period().max(1), row).min(self.samples),
             }
         } else {
             self.samples

@@ -258,10 +258,10 @@ pub struct Scanline<F> {
     filter: bool,
     /// Gaps (see [`fills`]): anchors every `period` columns from `phase`, or `None`.
     gaps: Option<(u32, u32, bool)>,
-    /// The last anchor fetched: its column and pixel.
-    left: (u32, (Rgb888, u8)),
+    /// The last anchor fetched.
+    left: (Rgb888, u8),
     /// The anchor right of the gaps being fetched, rendered before them.
-    right: Option<(u32, (Rgb888, u8))>,
+    right: Option<(Rgb888, u8)>,
     /// Whether those gaps are filled.
     fill: bool,
 }
@@ -277,7 +277,7 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Scanline<F> {
             rays: 0,
             filter: true,
             gaps: None,
-            left: (0, (Rgb888::BLACK, 0)),
+            left: (Rgb888::BLACK, 0),
             right: None,
             fill: false,
         }
@@ -308,10 +308,10 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Scanline<F> {
         let offset = (k + period - phase) % period;
         if offset == 0 {
             let p = match self.right.take() {
-                Some((_, p)) => p,
+                Some(p) => p,
                 None => self.render(k),
             };
-            self.left = (k, p);
+            self.left = p;
             return p;
         }
         if self.right.is_none() {
@@ -321,12 +321,12 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Scanline<F> {
             // Before the row's first anchor there is none on the left.
             if k >= offset && next < self.cols {
                 let p = self.render(next);
-                self.right = Some((next, p));
-                self.fill = fills(self.left.1, p, loose);
+                self.right = Some(p);
+                self.fill = fills(self.left, p, loose);
             }
         }
         match self.right {
-            Some((_, right)) if self.fill => interpolate(self.left.1, right, offset, period),
+            Some(right) if self.fill => interpolate(self.left, right, offset, period),
             _ => self.render(k),
         }
     }
