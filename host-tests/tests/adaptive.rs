@@ -668,13 +668,13 @@ fn small_point_frames_stay_within_the_ray_budget_at_every_point() {
 }
 
 #[test]
-fn gaps_bring_one_and_two_samples_within_the_ray_budget_on_most_frames() {
+fn gaps_bring_one_and_two_samples_within_the_ray_budget_on_every_frame() {
     // At `point` 1 and 2, 40 % is under the one ray a pixel casts: only
     // pixels that cast none (gaps) bring a frame within it. Seeds 6000 to
-    // 6039 at 160x120: before gaps every such frame cast 100 %; with them most
-    // are within 40 %, survey included (not every one: a frame of sharp
-    // detail fills few gaps).
-    let (mut frames, mut within) = (0, 0);
+    // 6039 at 160x120: before gaps every such frame cast 100 %; with them 44
+    // of 52 were within 40 %, survey included; with the loose rule's rungs
+    // (up to filling every gap at period 4) every one is.
+    let (mut frames, mut loose) = (0, 0);
     for seed in 6000..6040u64 {
         let scene = Scene::<I16F16>::parse(&lensray_testkit::scenegen::generate_lens(seed)).unwrap();
         if scene.camera.radius == 0.0 || !scene.camera.adaptive {
@@ -688,13 +688,20 @@ fn gaps_bring_one_and_two_samples_within_the_ray_budget_on_most_frames() {
             }
             assert!((2..=4).contains(&r.gap_period()), "seed {seed} point {point}: no gaps");
             let rays = frame_rays(&r, 160, 120);
-            within += (rays * 5 <= 2 * point as u64 * 19_200) as u32;
+            assert!(
+                rays * 5 <= 2 * point as u64 * 19_200,
+                "seed {seed} point {point}: {rays} rays, period {} loose {}",
+                r.gap_period(),
+                r.gap_loose()
+            );
+            loose += (r.gap_loose() > 0) as u32;
             frames += 1;
         }
     }
     assert_eq!(ADAPTIVE_BUDGET_POINT, 1);
+    // The rungs are climbed: some frames need the loose rule, most not.
     assert!(
-        frames >= 50 && within * 10 >= frames * 7,
-        "{within} of {frames} frames within 40 %"
+        frames >= 50 && loose > 0 && loose * 2 < frames,
+        "{loose} of {frames} frames loose"
     );
 }

@@ -62,8 +62,8 @@ pub struct Renderer<'a, S: Scalar> {
     /// survey: the budget the filled gaps leave. 0: 40 % of `point`.
     pub(crate) budget256: u32,
     /// Below [`ADAPTIVE_MIN_POINT`]: anchors every this many columns (see
-    /// [`scanline::fills`]), from the gap survey, in the low byte; bit 8:
-    /// gaps fill by the loose rule. 0: no gaps.
+    /// [`scanline::fills`]), from the gap survey, in the low byte; the next
+    /// byte: the loose rule's levels the gaps fill by (0: the strict rule). 0: no gaps.
     pub(crate) gap_period: u32,
 }
 
@@ -565,21 +565,24 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         if pairs(s) < 16 {
             return self;
         }
-        // The longest period again with the loose rule where none leaves a ray a pixel.
+        // The longest period again with the loose rule where none leaves a
+        // ray a pixel, its rungs counted on the same pairs.
+        const RUNGS: usize = scanline::GAP_LOOSE_LEVELS.len();
         for (period, loose) in GAP_PERIODS.map(|p| (p, false)).chain([(*GAP_PERIODS.end(), true)]) {
+            let levels = if loose { scanline::GAP_LOOSE_LEVELS } else { [0; RUNGS] };
             self.budget256 = 0;
-            self.gap_period = period | (loose as u32) << 8;
+            self.gap_period = period | (levels[0] as u32) << 8;
             // A period whose every gap filled would leave under a ray a pixel
             // is not surveyed (`point` 1 at 2).
             if period < *GAP_PERIODS.end() && left(rays) < 5 * (pixels - self.fillable_gaps()) {
                 continue;
             }
-            let mut least = u64::MAX;
+            let mut least = [u64::MAX; RUNGS];
             for pass in 0..2 {
                 if pass == 1 && self.samples == 1 {
                     break;
                 }
-                let (mut tested, mut filled) = (0u64, 0u64);
+                let (mut tested, mut filled) = (0u64, [0u64; RUNGS]);
                 for j in 0..rows / s {
                     for k in 0..cols / s {
                         // A spot in each cell of the grid, every phase of the dither.
@@ -595,21 +598,31 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                         let (r, nr, cr) = self.pixel_far(x + period, y);
                         rays += (nl + nr) as u64;
                         tested += 1;
-                        filled += scanline::fills((l, cl), (r, cr), loose) as u64;
+                        for (f, &level) in filled.iter_mut().zip(&levels) {
+                            *f += scanline::fills((l, cl), (r, cr), level) as u64;
+                        }
                     }
                 }
                 if tested == 0 {
                     return self.without_gaps();
                 }
-                // Two binomial deviations, rounded up, below the count.
-                let var = (filled * (tested - filled)).div_ceil(tested);
-                let sigma = crate::number::wide::isqrt_rem_u64(4 * var).0 + 1;
-                // In 65536ths of the pairs tested.
-                least = least.min((filled.saturating_sub(sigma) << 16) / tested);
-                // Rays left over the pixels casting, N − F G.
-                let casting = 5 * ((pixels << 16) - least * self.fillable_gaps());
-                let b256 = (left(rays) * 256 * (1 << 16) / casting.max(1)).min(256 * self.samples as u64);
-                self.budget256 = (b256 as u32).max(1);
+                // Rays a pixel that casts has, in 256ths, if the share filled
+                // is that of rung i (less two binomial deviations, rounded up).
+                let mut budget = |i: usize| {
+                    let var = (filled[i] * (tested - filled[i])).div_ceil(tested);
+                    let sigma = crate::number::wide::isqrt_rem_u64(4 * var).0 + 1;
+                    // In 65536ths of the pairs tested.
+                    least[i] = least[i].min((filled[i].saturating_sub(sigma) << 16) / tested);
+                    // Rays left over the pixels casting, N − F G.
+                    let casting = 5 * ((pixels << 16) - least[i] * self.fillable_gaps());
+                    let b256 = (left(rays) * 256 * (1 << 16) / casting.max(1)).min(256 * self.samples as u64);
+                    (b256 as u32).max(1)
+                };
+                // The strictest rung that leaves a ray a pixel, else the loosest.
+                let budgets: [u32; RUNGS] = core::array::from_fn(&mut budget);
+                let rung = budgets.iter().position(|&b| b >= 256).unwrap_or(RUNGS - 1);
+                self.gap_period = period | (levels[rung] as u32) << 8;
+                self.budget256 = budgets[rung];
             }
             if self.budget256 >= 256 {
                 break;
@@ -652,9 +665,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         self.gap_period & 0xFF
     }
 
-    /// Whether gaps fill by [`scanline::fills`]' loose rule (see [`Renderer::gap_period`]).
-    pub fn gap_loose(&self) -> bool {
-        self.gap_period >> 8 != 0
+    /// The levels of [`scanline::fills`]' loose rule the gaps fill by (a
+    /// rung of [`scanline::GAP_LOOSE_LEVELS`]), 0: the strict rule (see [`Renderer::gap_period`]).
+    pub fn gap_loose(&self) -> u8 {
+        (self.gap_period >> 8) as u8
     }
 
     /// Whether rows have gaps (see [`scanline::fills`]): rows are

@@ -195,8 +195,10 @@ pub const TEXTURED: u8 = 8;
 /// The class bits the filter compares: the lamp classes and [`WIDE`].
 const FILTER_BITS: u8 = 3 | WIDE;
 
-/// [`GAP_LEVELS`] of the loose rule, on any surface.
-pub const GAP_LOOSE_LEVELS: u8 = 8;
+/// [`GAP_LEVELS`] of the loose rule, on any surface: the rungs a frame's
+/// gap survey climbs until a pixel that casts has a ray (255: every gap
+/// fills, 25 % of the pixels cast at period 4, within 40 % of `point` 1).
+pub const GAP_LOOSE_LEVELS: [u8; 4] = [8, 24, 64, 255];
 
 /// The most a gap's two anchors may differ, in levels on every channel, for
 /// the gap to take their mean whatever their classes (see [`fills`]).
@@ -207,16 +209,17 @@ pub const GAP_LEVELS: u8 = 1;
 /// what is spread over twice the filter's gate (the 5-tap's class: the
 /// picture is nearly linear over a few pixels there) and share a lamp class,
 /// or where their colours are within [`GAP_LEVELS`] on every channel and
-/// neither met a checker (unless both are out of focus). `loose`: within
-/// [`GAP_LOOSE_LEVELS`] on any surface, for frames where the strict rule
-/// fills too few gaps to leave a ray a pixel (see `Renderer::gap_period`).
+/// neither met a checker (unless both are out of focus). `loose` above 0:
+/// within that many levels on any surface (a rung of [`GAP_LOOSE_LEVELS`]),
+/// for frames where the strict rule fills too few gaps to leave a ray a
+/// pixel (see `Renderer::gap_period`).
 #[inline]
-pub fn fills(left: (Rgb888, u8), right: (Rgb888, u8), loose: bool) -> bool {
+pub fn fills(left: (Rgb888, u8), right: (Rgb888, u8), loose: u8) -> bool {
     let (a, b) = (left.0, right.0);
-    let levels = if loose { GAP_LOOSE_LEVELS } else { GAP_LEVELS };
+    let levels = if loose > 0 { loose } else { GAP_LEVELS };
     let close = |x: u8, y: u8| x.abs_diff(y) <= levels;
     // A checker may hide a square between two anchors of one colour.
-    let smooth = loose || (left.1 | right.1) & TEXTURED == 0 || left.1 & right.1 & 3 != 0;
+    let smooth = loose > 0 || (left.1 | right.1) & TEXTURED == 0 || left.1 & right.1 & 3 != 0;
     let near = smooth && close(a.r(), b.r()) && close(a.g(), b.g()) && close(a.b(), b.b());
     let (l, r) = (left.1 & FILTER_BITS, right.1 & FILTER_BITS);
     let far = l & 3 != 0 && l & WIDE != 0 && l == r;
@@ -257,7 +260,7 @@ pub struct Scanline<F> {
     /// Whether the row is filtered at all; without it each pixel is passed on as it comes.
     filter: bool,
     /// Gaps (see [`fills`]): anchors every `period` columns from `phase`, or `None`.
-    gaps: Option<(u32, u32, bool)>,
+    gaps: Option<(u32, u32, u8)>,
     /// The last anchor fetched.
     left: (Rgb888, u8),
     /// The anchor right of the gaps being fetched, rendered before them.
@@ -293,7 +296,7 @@ impl<F: FnMut(u32) -> (Rgb888, u32, u8)> Scanline<F> {
     /// ... (`period` 2 to 4); the columns between two anchors cast no ray and
     /// take the line between them where [`fills`] allows, else are rendered,
     /// after the anchor on their right. Filtered rows only.
-    pub fn with_gaps(mut self, gaps: Option<(u32, u32, bool)>) -> Self {
+    pub fn with_gaps(mut self, gaps: Option<(u32, u32, u8)>) -> Self {
         self.gaps = gaps
             .filter(|&(period, _, _)| period >= 2)
             .map(|(period, phase, loose)| (period, phase % period, loose));
@@ -390,7 +393,7 @@ mod tests {
 
     /// A row of given pixels through a [`Scanline`] (with `gaps`): what it
     /// yields, the columns it asked for in order, and the rays it counted.
-    fn run(row: &[(Rgb888, u32, u8)], gaps: Option<(u32, u32, bool)>) -> (Vec<Rgb888>, Vec<u32>, u32) {
+    fn run(row: &[(Rgb888, u32, u8)], gaps: Option<(u32, u32, u8)>) -> (Vec<Rgb888>, Vec<u32>, u32) {
         let mut asked = Vec::new();
         let mut line = Scanline::new(
             |col| {
@@ -470,7 +473,7 @@ mod tests {
         for len in 1..80u32 {
             let period = 2 + next() % 3;
             let phase = next() % period;
-            let loose = next().is_multiple_of(3);
+            let loose = [0, 0, GAP_LOOSE_LEVELS[0], GAP_LOOSE_LEVELS[1], 255][(next() % 5) as usize];
             // Runs of near colours and classes, so that both answers occur.
             let mut base = [0u8; 3];
             let mut class = 0u8;
