@@ -9,7 +9,10 @@ fn main() {
     for seed in first..first + count {
         let g = lensray_testkit::scenegen::generate_lens(seed);
         let text = lensray_host::convergence::with_point(&g, p);
-        let scene = Scene::<I16F16>::parse(&text).unwrap();
+        let mut scene = Scene::<I16F16>::parse(&text).unwrap();
+        // The default render, as the campaign judges it.
+        scene.camera.sampler = lensray::unstable::sampler::Sampler::Stratified;
+        scene.camera.adaptive = true;
         let r = Renderer::new(&scene, w, h);
         let mut rays = 0u64;
         let mut row = vec![Default::default(); w as usize];
@@ -24,8 +27,9 @@ fn main() {
         }
         let n = (w * h) as f64;
         println!(
-            "seed {seed} point {p}: period {}, budget {:.3}, frame {:.3} rays a pixel ({:.1} %), cast pixels {:.1} %, survey {:.3} a pixel",
+            "seed {seed} point {p}: period {} loose {}, budget {:.3}, frame {:.3} rays a pixel ({:.1} %), cast pixels {:.1} %, survey {:.3} a pixel",
             r.gap_period(),
+            r.gap_loose(),
             r.gap_budget() as f64 / 256.0,
             rays as f64 / n,
             100.0 * rays as f64 / n / p as f64,

@@ -9,7 +9,7 @@
 use lensray::unstable::render::{
     adaptive_limit, adaptive_pilot, adaptive_risk_pilot, dithered_budget, dithered_cap, survey_stride,
     ADAPTIVE_BUDGET_POINT, ADAPTIVE_EIGHT_POINT, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT,
-    ADAPTIVE_SMALL_PILOT, SURVEY_MAX_RAYS, SURVEY_MIN_PIXELS,
+    ADAPTIVE_SMALL_PILOT, GAP_PAIR, SURVEY_MAX_RAYS, SURVEY_MIN_PIXELS,
 };
 use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
@@ -107,7 +107,7 @@ fn generated_lens_scenes_meet_the_floors() {
         let text = lensray_testkit::scenegen::generate_lens(seed);
         let point = Scene::<f32>::parse(&text).unwrap().camera.samples;
         if point < ADAPTIVE_MIN_POINT {
-            continue; // A fixed budget under 4 rays: the PSNR floor holds on few scenes (BENCHMARKS.md).
+            continue; // Gaps: see generated_lens_scenes_meet_the_floors_below_point_ten.
         }
         let truth = reference(&text, 80, 60, 512, Sampler::Stratified).unwrap();
         let ind = measure(&text, &truth, Setting::independent(point)).unwrap();
@@ -132,6 +132,54 @@ fn generated_lens_scenes_meet_the_floors() {
     }
     assert!(judged >= 5, "only {judged} scenes with point >= {ADAPTIVE_MIN_POINT}");
     assert!(short.is_empty(), "PSNR floor missed (seed, dB short): {short:?}");
+}
+
+/// The floors below `point` 10 (gaps: pixels that cast no ray), at 160x120
+/// (at 80x60 `point` 1 and 2 cannot afford a gap survey) against references
+/// of 512 samples: seeds 400 to 409 at `point` 1, 2, 3, 5 and 8, a block
+/// never tuned on. Every frame within 40 %, survey included; the PSNR floor
+/// on 43 of 50 (frames of sharp detail, seed 405, and of fine checkers near
+/// focus still miss: BENCHMARKS.md). Seeking one ray a pixel that casts, not
+/// [`GAP_PAIR`], 40 of 50 met it.
+#[test]
+fn generated_lens_scenes_meet_the_floors_below_point_ten() {
+    let (mut judged, mut short) = (0, Vec::new());
+    for seed in 400..410u64 {
+        let text = lensray_testkit::scenegen::generate_lens(seed);
+        if Scene::<f32>::parse(&text).unwrap().camera.radius == 0.0 {
+            continue;
+        }
+        let truth = reference(&text, 160, 120, 512, Sampler::Stratified).unwrap();
+        for point in [1u32, 2, 3, 5, 8] {
+            let text = lensray_host::convergence::with_point(&text, point);
+            let ind = measure(&text, &truth, Setting::independent(point)).unwrap();
+            let def = measure(&text, &truth, Setting::default_render(point)).unwrap();
+            println!(
+                "seed {seed} point {point}: independent {:.2} dB, default {:.2} dB at {:.1} %",
+                ind.psnr,
+                def.psnr,
+                100.0 * def.rays / point as f64
+            );
+            assert!(
+                def.rays <= 0.4 * point as f64,
+                "seed {seed} point {point}: {:.2} rays",
+                def.rays
+            );
+            if def.psnr < ind.psnr && def.psnr < 60.0 {
+                short.push((seed, point, ind.psnr - def.psnr));
+            }
+            judged += 1;
+        }
+    }
+    println!("short: {short:?}");
+    // The count below is GAP_PAIR's (2): seeking one ray, 10 of 50 missed.
+    assert_eq!(GAP_PAIR, 2);
+    assert!(judged >= 40, "only {judged} frames");
+    assert!(
+        short.len() * 50 <= judged * 7,
+        "PSNR floor missed on {} of {judged}: {short:?}",
+        short.len()
+    );
 }
 
 #[test]

@@ -159,6 +159,13 @@ pub fn dithered_budget(samples: u32, col: u32, row: u32) -> u32 {
 /// every 2, 3 or 4 columns.
 pub const GAP_PERIODS: core::ops::RangeInclusive<u32> = 2..=4;
 
+/// The rays a pixel that casts should have where gaps can free them: a
+/// stratified pair (the lens in halves), where one ray alone is no better
+/// than an independent one. Seeds 8600-8619, 8700-8719, 8800-8819 at
+/// 320x240 met both floors at `point` 2 on 57 of 60 frames with it, 48 with
+/// one ray sought; at 3 to 9 on 3 more frames of 8600-8619 and 8800-8819.
+pub const GAP_PAIR: u32 = 2;
+
 /// The column of row `row`'s first anchor at `period`: a diagonal from row
 /// to row, so that no column is a gap in every row.
 #[inline]
@@ -539,11 +546,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// frame's budget (40 % of `point` a pixel) leaves after the survey's
     /// rays. Above one sample, the pairs are rendered again at that budget
     /// and the lesser F sets it (more rays a pixel fill fewer gaps). The
-    /// period is the shortest whose budget is a ray a pixel or more (a pixel
-    /// that casts casts one at least), else the longest, surveyed again with
-    /// the loose rule (`point` 1 and 2 on frames of sharp detail: seeds
-    /// 8600-8619, 8700-8719, 8800-8819 at 320x240 met both floors at 1 and 2
-    /// on 98 of 120 frames with it, 84 without). Set-up only, in integers.
+    /// period is the shortest whose budget is [`GAP_PAIR`] rays a pixel that
+    /// casts or more (periods that could not reach it are not surveyed),
+    /// else the longest, surveyed again with the loose rule's rungs (see
+    /// [`scanline::GAP_LOOSE_LEVELS`]), counted on the same pairs: the
+    /// strictest that reaches it, else the loosest (every gap filled: within
+    /// 40 % of `point` 1). Seeds 8600-8619, 8700-8719, 8800-8819 at 320x240
+    /// meet both floors at `point` 1 on 56 of 60 frames, at 2 on 57 of 60
+    /// (one loose rule and one ray sought: 47 and 48). Set-up only, in integers.
     fn gap_surveyed(mut self, s: u32) -> Self {
         let (cols, rows) = (self.camera.cols(), self.camera.rows());
         let pixels = cols as u64 * rows as u64;
@@ -566,15 +576,25 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             return self;
         }
         // The longest period again with the loose rule where none leaves a
-        // ray a pixel, its rungs counted on the same pairs.
+        // pair a pixel, its rungs counted on the same pairs.
         const RUNGS: usize = scanline::GAP_LOOSE_LEVELS.len();
+        // The budget sought, in 256ths: a stratified pair a pixel that casts (one at `point` 1).
+        let want = 256 * self.samples.min(GAP_PAIR);
+        // Rays a pixel that casts has, in 256ths, where the share `least`
+        // (65536ths) of the gaps of `self`'s period fill and `rays` are spent.
+        let budget_of = |me: &Self, least: u64, rays: u64| -> u32 {
+            // Rays left over the pixels casting, N − F G.
+            let casting = 5 * ((pixels << 16) - least * me.fillable_gaps());
+            let b256 = (left(rays) * 256 * (1 << 16) / casting.max(1)).min(256 * me.samples as u64);
+            (b256 as u32).max(1)
+        };
         for (period, loose) in GAP_PERIODS.map(|p| (p, false)).chain([(*GAP_PERIODS.end(), true)]) {
             let levels = if loose { scanline::GAP_LOOSE_LEVELS } else { [0; RUNGS] };
             self.budget256 = 0;
             self.gap_period = period | (levels[0] as u32) << 8;
-            // A period whose every gap filled would leave under a ray a pixel
+            // A period whose every gap filled would leave less than sought
             // is not surveyed (`point` 1 at 2).
-            if period < *GAP_PERIODS.end() && left(rays) < 5 * (pixels - self.fillable_gaps()) {
+            if period < *GAP_PERIODS.end() && left(rays) * 256 < 5 * (pixels - self.fillable_gaps()) * want as u64 {
                 continue;
             }
             let mut least = [u64::MAX; RUNGS];
@@ -606,25 +626,20 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 if tested == 0 {
                     return self.without_gaps();
                 }
-                // Rays a pixel that casts has, in 256ths, if the share filled
-                // is that of rung i (less two binomial deviations, rounded up).
-                let mut budget = |i: usize| {
+                // The share of rung i's pairs filled, less two binomial
+                // deviations (rounded up), in 65536ths, the least of the passes.
+                for (i, least) in least.iter_mut().enumerate() {
                     let var = (filled[i] * (tested - filled[i])).div_ceil(tested);
                     let sigma = crate::number::wide::isqrt_rem_u64(4 * var).0 + 1;
-                    // In 65536ths of the pairs tested.
-                    least[i] = least[i].min((filled[i].saturating_sub(sigma) << 16) / tested);
-                    // Rays left over the pixels casting, N − F G.
-                    let casting = 5 * ((pixels << 16) - least[i] * self.fillable_gaps());
-                    let b256 = (left(rays) * 256 * (1 << 16) / casting.max(1)).min(256 * self.samples as u64);
-                    (b256 as u32).max(1)
-                };
-                // The strictest rung that leaves a ray a pixel, else the loosest.
-                let budgets: [u32; RUNGS] = core::array::from_fn(&mut budget);
-                let rung = budgets.iter().position(|&b| b >= 256).unwrap_or(RUNGS - 1);
+                    *least = (*least).min((filled[i].saturating_sub(sigma) << 16) / tested);
+                }
+                let budgets: [u32; RUNGS] = core::array::from_fn(|i| budget_of(&self, least[i], rays));
+                // The strictest rung that leaves a pair, else the loosest.
+                let rung = budgets.iter().position(|&b| b >= want).unwrap_or(RUNGS - 1);
                 self.gap_period = period | (levels[rung] as u32) << 8;
                 self.budget256 = budgets[rung];
             }
-            if self.budget256 >= 256 {
+            if self.budget256 >= want {
                 break;
             }
         }
