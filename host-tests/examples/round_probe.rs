@@ -1,7 +1,8 @@
 //! Where a frame of very high PSNR loses its levels (diagnosis):
 //! `round_probe SEED WIDTH [POINT]` histograms of |error| per channel against
 //! the converged reference for the default render, `point` independent and
-//! `point` stratified samples, and the worst pixels of the default render.
+//! `point` stratified samples, and the worst pixels of the default render;
+//! the images as round-SEED-{truth,default,independent,stratified}.png in the temp dir.
 use embedded_graphics_core::pixelcolor::RgbColor;
 use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
@@ -19,7 +20,7 @@ fn main() {
     let truth = reference(&text, w, h, 1024, Sampler::Stratified).unwrap();
     let save = |name: &str, img: &lensray_host::Image| {
         let bytes = lensray_host::encode(img, lensray_host::Format::Png).unwrap();
-        std::fs::write(format!("/tmp/x/{seed}-{name}.png"), bytes).unwrap();
+        std::fs::write(std::env::temp_dir().join(format!("round-{seed}-{name}.png")), bytes).unwrap();
     };
     save("truth", &truth);
     let scene = |sampler, adaptive| {
