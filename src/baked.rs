@@ -89,7 +89,7 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
         spread,
         floor,
         budget256,
-        gap_period,
+        rules,
     } = r;
     put_scene(scene, w);
     camera.put(w);
@@ -104,7 +104,7 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
     spread.put(w);
     floor.put(w);
     budget256.put(w);
-    gap_period.put(w);
+    rules.put(w);
 }
 
 fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
@@ -178,7 +178,7 @@ pub struct Baked<S: BakeScalar> {
     spread: u32,
     floor: u32,
     budget256: u32,
-    gap_period: u32,
+    rules: u32,
     /// The cones and footprints were moved out by [`Baked::take_renderer`].
     taken: bool,
 }
@@ -200,7 +200,7 @@ impl<S: BakeScalar> Baked<S> {
             spread: 0,
             floor: 0,
             budget256: 0,
-            gap_period: 0,
+            rules: 0,
             taken: false,
         }
     }
@@ -249,7 +249,7 @@ impl<S: BakeScalar> Baked<S> {
         self.spread = 0;
         self.floor = 0;
         self.budget256 = 0;
-        self.gap_period = 0;
+        self.rules = 0;
     }
 
     fn load_checked(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
@@ -323,7 +323,7 @@ impl<S: BakeScalar> Baked<S> {
         self.spread.take(r);
         self.floor.take(r);
         self.budget256.take(r);
-        self.gap_period.take(r);
+        self.rules.take(r);
         if !r.ok() {
             return;
         }
@@ -365,7 +365,7 @@ impl<S: BakeScalar> Baked<S> {
             spread: self.spread,
             floor: self.floor,
             budget256: self.budget256,
-            gap_period: self.gap_period,
+            rules: self.rules,
         }
     }
 
@@ -395,7 +395,7 @@ impl<S: BakeScalar> Baked<S> {
             spread: self.spread,
             floor: self.floor,
             budget256: self.budget256,
-            gap_period: self.gap_period,
+            rules: self.rules,
         }
     }
 

@@ -61,10 +61,12 @@ pub struct Renderer<'a, S: Scalar> {
     /// rays a pixel that casts any takes, in 256ths (dithered), from the gap
     /// survey: the budget the filled gaps leave. 0: 40 % of `point`.
     pub(crate) budget256: u32,
-    /// Below [`ADAPTIVE_MIN_POINT`]: anchors every this many columns (see
-    /// [`scanline::fills`]), from the gap survey, in the low byte; the next
-    /// byte: the loose rule's levels the gaps fill by (0: the strict rule). 0: no gaps.
-    pub(crate) gap_period: u32,
+    /// What the surveys chose, as bits. 0-7, below [`ADAPTIVE_MIN_POINT`]:
+    /// anchors every this many columns (see [`scanline::fills`]; 0: no
+    /// gaps); 8-15: the loose rule's levels the gaps fill by (0: the strict
+    /// rule); 16, from [`ADAPTIVE_MIN_POINT`]: an unsettled pixel doubles its
+    /// pilot at least (see [`Renderer::doubling`]).
+    pub(crate) rules: u32,
 }
 
 /// The pilot of `point 48` to 95: one sample in each of 16 equal strata of
@@ -391,7 +393,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             spread: 0,
             floor: 0,
             budget256: 0,
-            gap_period: 0,
+            rules: 0,
         }
     }
 
@@ -453,6 +455,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         SURVEYS.with(|n| n.set(n.get() + 1));
         let (mut settled_pilots, mut unsettled, mut rays, mut spreads) = (0u64, 0u64, 0u64, 0u64);
         let mut plain_settled = 0u64;
+        // The unsettled pixels by spread, for the doubling they take (see [`Renderer::share`]).
+        let mut by_spread = [[0u16; 64]; 2];
         for (x, y) in grid(s) {
             let pilot = pilot(x, y);
             // Without a spread yet, the pixel stops at its pilot either way.
@@ -464,8 +468,16 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             } else {
                 unsettled += 1;
                 spreads += spread as u64;
+                if !cfg!(feature = "no-spare-floor") {
+                    // Half-octaves of spread, plain and raised pilots apart.
+                    let e = 31 - spread.leading_zeros();
+                    let b = (2 * e + (e > 0 && spread >> (e - 1) & 1 == 1) as u32) as usize;
+                    let k = (pilot != adaptive_pilot(self.samples)) as usize;
+                    by_spread[k][b] = by_spread[k][b].saturating_add(1);
+                }
             }
         }
+        let seen = unsettled;
         // A margin of one binomial standard deviation of the count,
         // √(U (G − U) / G) rounded up, so that a frame with more unsettled
         // pixels than its survey saw stays within the budget.
@@ -486,6 +498,32 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         };
         self.survey_rays = rays as u32;
         self.spread = spreads.div_ceil(unsettled.max(1)).min(u32::MAX as u64) as u32;
+        // Every share within `point` bounds what the unsettled pixels take.
+        let mut doubling = self.cap == self.samples && !cfg!(feature = "no-spare-floor");
+        if !cfg!(feature = "no-spare-floor") && self.cap < self.samples && seen > 0 {
+            // An unsettled pixel doubles its pilot at least (see
+            // [`Renderer::share`]) where the shares, spreads at their
+            // half-octaves' middles and at most `point`, then sum to what the
+            // survey gave them (C a pixel before rounding down): rays the
+            // shares stopped at `point` leave (lamps' rims), not others'.
+            let pilots = [adaptive_pilot(self.samples), adaptive_risk_pilot(self.samples)];
+            let mut sum = 0u64;
+            for (k, row) in by_spread.iter().enumerate() {
+                let p = pilots[k] as u64;
+                for (b, &n) in row.iter().enumerate() {
+                    // The half-octave's middle: 1.25 or 1.75 times 2^(b/2).
+                    let mid = (1u64 << (b / 2)) * (5 + 2 * (b & 1) as u64) / 4;
+                    let own = p + (self.cap as u64).saturating_sub(p) * mid / self.spread.max(1) as u64;
+                    let own = own.min(self.samples as u64);
+                    let own = if self.cap as u64 >= 2 * p { own.max(2 * p) } else { own };
+                    sum += n as u64 * own;
+                }
+            }
+            // sum / seen <= left / (5 U N).
+            let left = budget.saturating_sub(spent);
+            doubling = sum as u128 * 5 * unsettled as u128 * pixels <= left * seen as u128;
+        }
+        self.rules = (doubling as u32) << 16;
         // Rays the unsettled pixels leave go to the pixels settled at the
         // plain pilot, as a floor (seeds 1042, 8232 cast 21 and 18 % of
         // `point` and missed by stopping early).
@@ -591,7 +629,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         for (period, loose) in GAP_PERIODS.map(|p| (p, false)).chain([(*GAP_PERIODS.end(), true)]) {
             let levels = if loose { scanline::GAP_LOOSE_LEVELS } else { [0; RUNGS] };
             self.budget256 = 0;
-            self.gap_period = period | (levels[0] as u32) << 8;
+            self.rules = period | (levels[0] as u32) << 8;
             // A period whose every gap filled would leave less than sought
             // is not surveyed (`point` 1 at 2).
             if period < *GAP_PERIODS.end() && left(rays) * 256 < 5 * (pixels - self.fillable_gaps()) * want as u64 {
@@ -636,7 +674,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 let budgets: [u32; RUNGS] = core::array::from_fn(|i| budget_of(&self, least[i], rays));
                 // The strictest rung that leaves a pair, else the loosest.
                 let rung = budgets.iter().position(|&b| b >= want).unwrap_or(RUNGS - 1);
-                self.gap_period = period | (levels[rung] as u32) << 8;
+                self.rules = period | (levels[rung] as u32) << 8;
                 self.budget256 = budgets[rung];
             }
             if self.budget256 >= want {
@@ -677,13 +715,19 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// Anchors every this many columns below [`ADAPTIVE_MIN_POINT`] (see
     /// [`scanline::fills`]), from the gap survey; 0: no gaps.
     pub fn gap_period(&self) -> u32 {
-        self.gap_period & 0xFF
+        self.rules & 0xFF
+    }
+
+    /// Whether an unsettled pixel doubles its pilot at least (see
+    /// [`Renderer::pixel_rays`]): where the survey found the rays for it.
+    pub fn doubling(&self) -> bool {
+        self.rules >> 16 != 0
     }
 
     /// The levels of [`scanline::fills`]' loose rule the gaps fill by (a
     /// rung of [`scanline::GAP_LOOSE_LEVELS`]), 0: the strict rule (see [`Renderer::gap_period`]).
     pub fn gap_loose(&self) -> u8 {
-        (self.gap_period >> 8) as u8
+        (self.rules >> 8) as u8
     }
 
     /// Whether rows have gaps (see [`scanline::fills`]): rows are
@@ -733,14 +777,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     fn clear_survey(&mut self) {
         self.cap = adaptive_limit(self.samples);
         (self.survey_rays, self.spread, self.floor) = (0, 0, 0);
-        (self.budget256, self.gap_period) = (0, 0);
+        (self.budget256, self.rules) = (0, 0);
     }
 
     /// This renderer without gaps (see [`Renderer::gap_period`]): its
     /// pixels as a build without the scanline filter (the micro:bit's, which
     /// takes no gap survey) renders them, 40 % of `point` each.
     pub fn without_gaps(mut self) -> Self {
-        (self.budget256, self.gap_period) = (0, 0);
+        self.budget256 = 0;
+        self.rules &= !0xFFFF;
         self
     }
 
@@ -828,7 +873,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// mean is settled (see the scene format's "Adaptive lens sampling"), and
     /// stops there; else it goes on, up to its share of the frame's budget
     /// (the survey's cap C: its pilot P plus (C − P) times its samples'
-    /// spread over the survey's mean, dithered to a power of two). The
+    /// spread over the survey's mean, at least 2P where C is and the survey
+    /// found the rays for it, [`Renderer::doubling`], dithered to a power of two). The
     /// samples taken are the first ones of the full render. With the
     /// stratified sampler, a ray that meets a checker averages it over its
     /// stratum's footprint (see [`Defocus`]): one of `check` strata while the
@@ -1047,6 +1093,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         {
             Some(extra) => pilot.saturating_add(extra).min(self.samples),
             None => most.max(pilot),
+        };
+        // At least one doubling where the cap allows: a spread far under the
+        // frame's mean (lamps' rims raise it) is no sign of a settled mean
+        // (seed 9027: such pixels stopped at 4 of 14 with 7 times the error).
+        let own = if !cfg!(feature = "no-spare-floor") && self.doubling() && most >= 2 * pilot {
+            own.max(2 * pilot)
+        } else {
+            own
         };
         dithered_cap(own, col, row).min(self.samples)
     }
