@@ -86,6 +86,28 @@ fn run_time_seeds(count: u64) -> Vec<u64> {
     (0..count).map(|i| (t ^ (i << 40)) % 1_000_000).collect()
 }
 
+/// The default render of `text` at `point` against `truth`, beside `point`
+/// independent samples: asserts the ray floor (40 %, survey included) and
+/// returns how many dB short of the PSNR floor it is, if it is. Above 60 dB
+/// (a mean square error under 0.07 level²) both renders differ from the
+/// reference by a few pixels' rounding: not judged.
+fn judged_short(text: &str, truth: &lensray_host::Image, seed: u64, point: u32) -> Option<f64> {
+    let ind = measure(text, truth, Setting::independent(point)).unwrap();
+    let def = measure(text, truth, Setting::default_render(point)).unwrap();
+    println!(
+        "seed {seed} point {point}: independent {:.2} dB, default {:.2} dB at {:.1} %",
+        ind.psnr,
+        def.psnr,
+        100.0 * def.rays / point as f64
+    );
+    assert!(
+        def.rays <= 0.4 * point as f64,
+        "seed {seed} point {point}: {:.2} rays",
+        def.rays
+    );
+    (def.psnr < ind.psnr && def.psnr < 60.0).then_some(ind.psnr - def.psnr)
+}
+
 /// The floors on generated lens scenes, at 80x60 against references of 512
 /// samples (the campaign example measures many more, larger): seeds 400 to
 /// 411 (`LENSRAY_SEEDS` for others), a block never tuned on, taken whole
@@ -110,23 +132,8 @@ fn generated_lens_scenes_meet_the_floors() {
             continue; // Gaps: see generated_lens_scenes_meet_the_floors_below_point_ten.
         }
         let truth = reference(&text, 80, 60, 512, Sampler::Stratified).unwrap();
-        let ind = measure(&text, &truth, Setting::independent(point)).unwrap();
-        let def = measure(&text, &truth, Setting::default_render(point)).unwrap();
-        println!(
-            "seed {seed} (point {point}): independent {:.2} dB, default {:.2} dB at {:.1} %",
-            ind.psnr,
-            def.psnr,
-            100.0 * def.rays / point as f64
-        );
-        assert!(
-            def.rays <= 0.4 * point as f64,
-            "seed {seed}: {:.2} rays of {point}",
-            def.rays
-        );
-        // Above 60 dB (a mean square error under 0.07 level²) both renders
-        // differ from the reference by a few pixels' rounding: not judged.
-        if def.psnr < ind.psnr && def.psnr < 60.0 {
-            short.push((seed, ind.psnr - def.psnr));
+        if let Some(db) = judged_short(&text, &truth, seed, point) {
+            short.push((seed, db));
         }
         judged += 1;
     }
@@ -152,21 +159,8 @@ fn generated_lens_scenes_meet_the_floors_below_point_ten() {
         let truth = reference(&text, 160, 120, 512, Sampler::Stratified).unwrap();
         for point in [1u32, 2, 3, 5, 8] {
             let text = lensray_host::convergence::with_point(&text, point);
-            let ind = measure(&text, &truth, Setting::independent(point)).unwrap();
-            let def = measure(&text, &truth, Setting::default_render(point)).unwrap();
-            println!(
-                "seed {seed} point {point}: independent {:.2} dB, default {:.2} dB at {:.1} %",
-                ind.psnr,
-                def.psnr,
-                100.0 * def.rays / point as f64
-            );
-            assert!(
-                def.rays <= 0.4 * point as f64,
-                "seed {seed} point {point}: {:.2} rays",
-                def.rays
-            );
-            if def.psnr < ind.psnr && def.psnr < 60.0 {
-                short.push((seed, point, ind.psnr - def.psnr));
+            if let Some(db) = judged_short(&text, &truth, seed, point) {
+                short.push((seed, point, db));
             }
             judged += 1;
         }
