@@ -509,14 +509,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             let pilots = [adaptive_pilot(self.samples), adaptive_risk_pilot(self.samples)];
             let mut sum = 0u64;
             for (k, row) in by_spread.iter().enumerate() {
-                let p = pilots[k] as u64;
                 for (b, &n) in row.iter().enumerate() {
-                    // The half-octave's middle: 1.25 or 1.75 times 2^(b/2).
-                    let mid = (1u64 << (b / 2)) * (5 + 2 * (b & 1) as u64) / 4;
-                    let own = p + (self.cap as u64).saturating_sub(p) * mid / self.spread.max(1) as u64;
-                    let own = own.min(self.samples as u64);
-                    let own = if self.cap as u64 >= 2 * p { own.max(2 * p) } else { own };
-                    sum += n as u64 * own;
+                    // The half-octave's middle: 1.25 or 1.75 times 2^(b/2) (under 2^32).
+                    let mid = ((1u64 << (b / 2)) * (5 + 2 * (b & 1) as u64) / 4) as u32;
+                    sum += n as u64 * self.own_share(self.cap, pilots[k], mid, true) as u64;
                 }
             }
             // sum / seen <= left / (5 U N).
@@ -1084,6 +1080,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// The cap of an unsettled pixel of pilot `pilot` and spread `spread`
     /// where the frame's is `most`, dithered to a power of two.
     fn share(&self, most: u32, pilot: u32, spread: u32, col: u32, row: u32) -> u32 {
+        dithered_cap(self.own_share(most, pilot, spread, self.doubling()), col, row).min(self.samples)
+    }
+
+    /// [`Renderer::share`] before its dither, doubling or not (the survey
+    /// sums it to decide [`Renderer::doubling`]).
+    fn own_share(&self, most: u32, pilot: u32, spread: u32, doubling: bool) -> u32 {
         // In u32, saturating (lamps' spreads): the micro:bit's flash. No
         // survey spread: the frame's cap.
         let own = match most
@@ -1097,12 +1099,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // At least one doubling where the cap allows: a spread far under the
         // frame's mean (lamps' rims raise it) is no sign of a settled mean
         // (seed 9027: such pixels stopped at 4 of 14 with 7 times the error).
-        let own = if !cfg!(feature = "no-spare-floor") && self.doubling() && most >= 2 * pilot {
+        if !cfg!(feature = "no-spare-floor") && doubling && most >= 2 * pilot {
             own.max(2 * pilot)
         } else {
             own
-        };
-        dithered_cap(own, col, row).min(self.samples)
+        }
     }
 
     /// Pixel (`col`, `row`) as 8-bit RGB: each channel clamped and `round(255 v)`;
