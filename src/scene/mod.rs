@@ -655,6 +655,38 @@ impl<S: Scalar> Object<S> {
         self.exact_t(hit, o, &S::dir_from(d.to_array()))
     }
 
+    /// How far the unit normal turns across a lens ray's footprint of radius
+    /// `w` world units at `hit`: the object-space footprint (`w` times the
+    /// largest row of world → object) times the surface's curvature there
+    /// (1 on the unit sphere and cylinder side, about 1/r at radius r on the
+    /// cone's side; 0 on flat faces and the plane). The half-width of the
+    /// band of n·l over which a light's terminator step is box-filtered.
+    pub fn normal_spread(&self, hit: &Hit<S>, w: S) -> S {
+        let n = hit.local.n;
+        let curved = match self.shape {
+            Shape::Sphere => true,
+            Shape::Cylinder | Shape::Cone => !(n.x == S::ZERO && n.z == S::ZERO),
+            _ => false,
+        };
+        if !curved || w <= S::ZERO {
+            return S::ZERO;
+        }
+        let mut big = S::ZERO;
+        for k in 0..3 {
+            let row = [self.to_object.entry(k, 0), self.to_object.entry(k, 1), self.to_object.entry(k, 2)];
+            big = big.max(S::length3(row));
+        }
+        let e = w.mul(big);
+        let e = if self.shape == Shape::Cone {
+            let p = hit.local.p;
+            // 1/r, r held to at least 1/16 (the apex).
+            e.div(S::length3([p.x, S::ZERO, p.z]).max(S::from_q15(2048)))
+        } else {
+            e
+        };
+        e.min(S::ONE)
+    }
+
     /// The checker's darkening (1 on a light square, 1/4 on a dark one)
     /// averaged over a lens ray's footprint: a disc of radius `w` world units
     /// across the ray (unit `d`) projected along it onto the surface, whose
