@@ -150,6 +150,11 @@ pub struct Object<S: Scalar> {
     /// The plane's world unit normal, the same for every hit: computed once,
     /// exactly as [`Object::normal`] would compute it per hit.
     plane_normal: Vec3<S>,
+    /// The longest row of world → object's linear part (each rounded to
+    /// `S`): the most object-space length a world length can take, for
+    /// [`Object::normal_spread`]; computed once. 0 on the plane and the cube,
+    /// whose normal never turns.
+    stretch: S,
 }
 
 impl<S: crate::number::BakeScalar> crate::bytes::Field for Object<S> {
@@ -162,6 +167,7 @@ impl<S: crate::number::BakeScalar> crate::bytes::Field for Object<S> {
         normal_to_world,
         bound,
         plane_normal,
+        stretch,
     }, check(obj) {
         // The plane is the one shape without a bounding sphere; intersect relies on it.
         if (obj.shape == Shape::Plane) != obj.bound.is_none() {
@@ -218,6 +224,17 @@ impl<S: Scalar> Object<S> {
             )
         });
         let normal_to_world = Affine::from_mat(&inv.linear_transpose());
+        let to_object = Affine::from_mat(&match bound {
+            // f32 applies it to a ray's offset from the rounded centre (`LOCAL_FROM_CENTRE`).
+            Some((c, _)) if S::LOCAL_FROM_CENTRE => inv.after(&Mat34::translate(c.to_f64())),
+            _ => inv,
+        });
+        let stretch = match desc.shape {
+            Shape::Plane | Shape::Cube => S::ZERO,
+            _ => (0..3)
+                .map(|k| S::length3(core::array::from_fn(|j| to_object.entry(k, j))))
+                .fold(S::ZERO, S::max),
+        };
         Some(Object {
             shape: desc.shape,
             material: Material {
@@ -232,14 +249,11 @@ impl<S: Scalar> Object<S> {
             } else {
                 S::ZERO
             },
-            to_object: Affine::from_mat(&match bound {
-                // f32 applies it to a ray's offset from the rounded centre (`LOCAL_FROM_CENTRE`).
-                Some((c, _)) if S::LOCAL_FROM_CENTRE => inv.after(&Mat34::translate(c.to_f64())),
-                _ => inv,
-            }),
+            to_object,
             normal_to_world,
             bound,
             plane_normal: normal_to_world.vector_unit(Vec3::new(S::ZERO, S::ZERO, S::ONE)).0,
+            stretch,
         })
     }
 
@@ -657,26 +671,21 @@ impl<S: Scalar> Object<S> {
 
     /// How far the unit normal turns across a lens ray's footprint of radius
     /// `w` world units at `hit`: the object-space footprint (`w` times the
-    /// largest row of world → object) times the surface's curvature there
-    /// (1 on the unit sphere and cylinder side, about 1/r at radius r on the
-    /// cone's side; 0 on flat faces and the plane). The half-width of the
-    /// band of n·l over which a light's terminator step is box-filtered.
+    /// object's stretch, the longest row of world → object, computed at
+    /// set-up) times the surface's curvature there (1 on the unit sphere and
+    /// cylinder side, about 1/r at radius r on the cone's side; 0 on flat
+    /// faces and the plane), at most 1. The half-width of the band of n·l
+    /// over which a light's terminator step is box-filtered. `S`'s own
+    /// arithmetic only (no `f64`): it runs per hit.
     pub fn normal_spread(&self, hit: &Hit<S>, w: S) -> S {
         let n = hit.local.n;
-        let curved = match self.shape {
-            Shape::Sphere => true,
-            Shape::Cylinder | Shape::Cone => !(n.x == S::ZERO && n.z == S::ZERO),
-            _ => false,
-        };
-        if !curved || w <= S::ZERO {
+        // The cylinder's and the cone's caps are flat; the plane and the cube
+        // have no stretch.
+        let cap = n.x == S::ZERO && n.z == S::ZERO && self.shape != Shape::Sphere;
+        if self.stretch == S::ZERO || cap || w <= S::ZERO {
             return S::ZERO;
         }
-        let mut big = S::ZERO;
-        for k in 0..3 {
-            let row = [self.to_object.entry(k, 0), self.to_object.entry(k, 1), self.to_object.entry(k, 2)];
-            big = big.max(S::length3(row));
-        }
-        let e = w.mul(big);
+        let e = w.mul(self.stretch);
         let e = if self.shape == Shape::Cone {
             let p = hit.local.p;
             // 1/r, r held to at least 1/16 (the apex).
@@ -854,6 +863,10 @@ pub struct Scene<S: Scalar> {
     /// to 18; see
     /// [`Scene::set_exact_retakes`]). Not baked, not parsed.
     pub(crate) exact_retake: bool,
+    /// Whether a stratified lens ray's specular is box-filtered across a
+    /// light's terminator over its footprint (see
+    /// [`Scene::set_terminator_filter`]). Not baked, not parsed.
+    pub(crate) terminator_filter: bool,
 }
 
 impl<S: Scalar> Scene<S> {
@@ -895,6 +908,24 @@ impl<S: Scalar> Scene<S> {
     pub(crate) fn exact_retakes(&self) -> bool {
         !cfg!(feature = "no-exact-retakes") && self.exact_retake
     }
+
+    /// Whether a stratified lens ray's specular steps to 0 at a light's
+    /// terminator (n·l = 0) box-filtered over the band of n·l its footprint
+    /// spans on a curved surface ([`Object::normal_spread`]) rather than
+    /// sharply. On by default; off, the step is sharp, as a build with the
+    /// feature `no-terminator-filter` (the micro:bit's) always has it. For
+    /// the host to render as the micro:bit does (its firmware test).
+    #[doc(hidden)]
+    pub fn set_terminator_filter(&mut self, on: bool) {
+        self.terminator_filter = on;
+    }
+
+    /// Whether the terminator is filtered: the switch, and never with the
+    /// feature `no-terminator-filter`.
+    #[inline(always)]
+    pub(crate) fn terminator_filtered(&self) -> bool {
+        !cfg!(feature = "no-terminator-filter") && self.terminator_filter
+    }
 }
 
 impl<S: Scalar> Default for Scene<S> {
@@ -907,6 +938,7 @@ impl<S: Scalar> Default for Scene<S> {
             shadows: false,
             objects: heapless::Vec::new(),
             exact_retake: true,
+            terminator_filter: true,
             lights: heapless::Vec::new(),
         }
     }
