@@ -147,14 +147,14 @@ pub struct Object<S: Scalar> {
     normal_to_world: Affine<S>,
     /// World-space bounding sphere (centre, radius); the plane has none.
     bound: Option<(Vec3<S>, S)>,
-    /// The plane's world unit normal, the same for every hit: computed once,
-    /// exactly as [`Object::normal`] would compute it per hit.
-    plane_normal: Vec3<S>,
-    /// The longest row of world → object's linear part (each rounded to
-    /// `S`): the most object-space length a world length can take, for
-    /// [`Object::normal_spread`]; computed once. 0 on the plane and the cube,
-    /// whose normal never turns.
-    stretch: S,
+    /// What the shape needs per hit, computed once. The plane: its world
+    /// unit normal, the same for every hit, exactly as [`Object::normal`]
+    /// would compute it per hit. A curved shape (sphere, cylinder, cone): in
+    /// `x` its stretch, the longest row of world → object's linear part
+    /// (each rounded to `S`), the most object-space length a world length
+    /// can take, for [`Object::normal_spread`]. Zero otherwise. One slot for
+    /// both: a field more cost the micro:bit's flash 28 bytes.
+    per_shape: Vec3<S>,
 }
 
 impl<S: crate::number::BakeScalar> crate::bytes::Field for Object<S> {
@@ -166,8 +166,7 @@ impl<S: crate::number::BakeScalar> crate::bytes::Field for Object<S> {
         to_object,
         normal_to_world,
         bound,
-        plane_normal,
-        stretch,
+        per_shape,
     }, check(obj) {
         // The plane is the one shape without a bounding sphere; intersect relies on it.
         if (obj.shape == Shape::Plane) != obj.bound.is_none() {
@@ -229,11 +228,16 @@ impl<S: Scalar> Object<S> {
             Some((c, _)) if S::LOCAL_FROM_CENTRE => inv.after(&Mat34::translate(c.to_f64())),
             _ => inv,
         });
-        let stretch = match desc.shape {
-            Shape::Plane | Shape::Cube => S::ZERO,
-            _ => (0..3)
-                .map(|k| S::length3(core::array::from_fn(|j| to_object.entry(k, j))))
-                .fold(S::ZERO, S::max),
+        let per_shape = match desc.shape {
+            Shape::Plane => normal_to_world.vector_unit(Vec3::new(S::ZERO, S::ZERO, S::ONE)).0,
+            Shape::Cube => Vec3::ZERO,
+            Shape::Sphere | Shape::Cylinder | Shape::Cone => Vec3::new(
+                (0..3)
+                    .map(|k| S::length3(core::array::from_fn(|j| to_object.entry(k, j))))
+                    .fold(S::ZERO, S::max),
+                S::ZERO,
+                S::ZERO,
+            ),
         };
         Some(Object {
             shape: desc.shape,
@@ -252,8 +256,7 @@ impl<S: Scalar> Object<S> {
             to_object,
             normal_to_world,
             bound,
-            plane_normal: normal_to_world.vector_unit(Vec3::new(S::ZERO, S::ZERO, S::ONE)).0,
-            stretch,
+            per_shape,
         })
     }
 
@@ -559,7 +562,7 @@ impl<S: Scalar> Object<S> {
         // From the exact product: a large object's inverse transpose has entries of
         // 1/500, which rounded first would leave the normal a few bits.
         let n = if self.shape == Shape::Plane {
-            self.plane_normal
+            self.per_shape
         } else {
             self.normal_to_world.vector_unit(hit.local.n).0
         };
@@ -679,13 +682,17 @@ impl<S: Scalar> Object<S> {
     /// arithmetic only (no `f64`): it runs per hit.
     pub fn normal_spread(&self, hit: &Hit<S>, w: S) -> S {
         let n = hit.local.n;
-        // The cylinder's and the cone's caps are flat; the plane and the cube
-        // have no stretch.
-        let cap = n.x == S::ZERO && n.z == S::ZERO && self.shape != Shape::Sphere;
-        if self.stretch == S::ZERO || cap || w <= S::ZERO {
+        let curved = match self.shape {
+            Shape::Sphere => true,
+            // The caps are flat.
+            Shape::Cylinder | Shape::Cone => !(n.x == S::ZERO && n.z == S::ZERO),
+            Shape::Plane | Shape::Cube => false,
+        };
+        if !curved || w <= S::ZERO {
             return S::ZERO;
         }
-        let e = w.mul(self.stretch);
+        // The stretch (set-up).
+        let e = w.mul(self.per_shape.x);
         let e = if self.shape == Shape::Cone {
             let p = hit.local.p;
             // 1/r, r held to at least 1/16 (the apex).
