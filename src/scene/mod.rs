@@ -1044,6 +1044,47 @@ mod tests {
         assert!(close(n, want.map(|x| x / l)), "{n:?}");
     }
 
+    /// The footprint's turn of the normal: the set-up stretch (world →
+    /// object's longest row) times the footprint, 1/r on the cone's side,
+    /// none on flat faces, at most 1; the plane keeps its normal.
+    #[test]
+    fn normal_spread_from_the_set_up_stretch() {
+        fn spread<S: Scalar>(shape: Shape, m: Mat34, o: [f64; 3], d: [f64; 3], w: f64) -> f64 {
+            let obj = object::<S>(shape, m);
+            let (o, d) = (Vec3::<S>::from_f64(o), Vec3::<S>::from_f64(d).normalize());
+            let h = obj.intersect(o, d, S::HIT_EPSILON, S::MAX).unwrap();
+            obj.normal_spread(&h, S::from_f64(w)).to_f64()
+        }
+        fn each(shape: Shape, m: Mat34, o: [f64; 3], d: [f64; 3], w: f64, want: f64) {
+            let (a, b) = (spread::<f32>(shape, m, o, d, w), spread::<I16F16>(shape, m, o, d, w));
+            assert!(
+                (a - want).abs() < 1e-3 && (b - want).abs() < 1e-3,
+                "{shape:?}: {a} {b}, not {want}"
+            );
+        }
+        let down = [0.0, 0.0, -1.0];
+        // Scaled by (2, 4, 1): world → object's longest row is 1 (z).
+        let m = Mat34::translate([0.0, 0.0, -10.0]).after(&Mat34::scale([2.0, 4.0, 1.0]));
+        each(Shape::Sphere, m, [0.0; 3], down, 0.01, 0.01);
+        // Scaled by 0.5: a world length is twice as long in object space; at most 1.
+        let m = Mat34::translate([0.0, 0.0, -10.0]).after(&Mat34::scale([0.5; 3]));
+        each(Shape::Sphere, m, [0.0; 3], down, 0.01, 0.02);
+        each(Shape::Sphere, m, [0.0; 3], down, 1.0, 1.0);
+        // The cylinder's side, and its cap (flat) seen down its axis.
+        let m = Mat34::translate([0.0, 0.0, -10.0]);
+        each(Shape::Cylinder, m, [0.0; 3], down, 0.01, 0.01);
+        let up = Mat34::translate([0.0, 0.0, -10.0]).after(&Mat34::rotate(0, 90.0));
+        each(Shape::Cylinder, up, [0.0; 3], down, 0.01, 0.0);
+        // The cone's side at height 0 (radius 1/2): 1/r = 2.
+        each(Shape::Cone, m, [0.0; 3], down, 0.01, 0.02);
+        // Flat shapes never turn.
+        each(Shape::Cube, m, [0.0; 3], down, 0.01, 0.0);
+        each(Shape::Plane, m, [0.0; 3], down, 0.01, 0.0);
+        // The plane's slot still holds its normal.
+        let (_, n) = both(Shape::Plane, m, [0.0; 3], down).unwrap();
+        assert!(close(n, [0.0, 0.0, 1.0]), "{n:?}");
+    }
+
     #[test]
     fn rotated_cube_and_floor() {
         // Program 1's cube: rotated 45° about y, its edge faces the camera.
