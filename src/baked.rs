@@ -116,8 +116,9 @@ fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
         shadows,
         objects,
         lights,
-        // A host-side switch (on when loaded), not part of the bake.
+        // Host-side switches (on when loaded), not part of the bake.
         exact_retake: _,
+        terminator_filter: _,
     } = s;
     ambient.put(w);
     background.put(w);
@@ -305,6 +306,7 @@ impl<S: BakeScalar> Baked<S> {
             objects,
             lights,
             exact_retake: _,
+            terminator_filter: _,
         } = &mut self.scene;
         ambient.take(r);
         background.take(r);

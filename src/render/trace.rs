@@ -271,6 +271,17 @@ impl<S: Scalar> Scene<S> {
             }
             _ => None,
         };
+        // The band of n·l over which the footprint straddles a light's
+        // terminator, where the specular steps from ks (r·v)^shine to 0.
+        // 0 without a footprint, on flat faces, or with the filter off (always
+        // with the feature `no-terminator-filter`: then the lights' loop is
+        // the sharp step's).
+        let band = match footprint {
+            Some((defocus, stratum)) if stratum > S::ZERO && self.terminator_filtered() => {
+                obj.normal_spread(&hit, defocus.width(d, hit.t, stratum))
+            }
+            _ => S::ZERO,
+        };
         let (ka, kd) = if let Some(f) = filtered {
             (m.ka * f, m.kd * f)
         } else if if self.exact_retakes() {
@@ -290,14 +301,17 @@ impl<S: Scalar> Scene<S> {
             let to_light = light.position - p;
             // A light behind the surface needs no normalising (in Program 1, the
             // lamp under the floor for every floor pixel).
-            if !S::dot_positive(n.to_array(), to_light.to_array()) {
+            if band == S::ZERO && !S::dot_positive(n.to_array(), to_light.to_array()) {
                 continue;
             }
             let (l, dist) = to_light.normalize_len();
             let n_dot_l = n.dot_inline(l);
-            if n_dot_l <= S::ZERO {
+            if n_dot_l <= band.neg() {
                 continue;
             }
+            // Within ±band of the terminator: the lit share of the footprint,
+            // the step at n·l = 0 box-filtered.
+            let lit = (n_dot_l < band).then(|| n_dot_l.add(band).div(band.add(band)));
             // The segment from just above P to the light itself (SPEC: "a light
             // whose segment from P is blocked"): along P's own vector from
             // p_shadow it ended at light + n ε, past a surface 5e-4 behind the
@@ -315,8 +329,9 @@ impl<S: Scalar> Scene<S> {
             }
             let r = n.scale(n_dot_l.add(n_dot_l)) - l;
             let r_dot_v = r.dot_inline(v).max(S::ZERO);
-            let diffuse = kd.scale(n_dot_l);
-            let specular = m.ks.scale(r_dot_v.powf(m.shine));
+            let diffuse = kd.scale(n_dot_l.max(S::ZERO));
+            let highlight = r_dot_v.powf(m.shine);
+            let specular = m.ks.scale(lit.map_or(highlight, |lit| highlight.mul(lit)));
             colour = colour + (diffuse + specular).hadamard(light.intensity);
         }
         (colour, Some((i, hit.t)))

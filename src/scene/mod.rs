@@ -147,9 +147,14 @@ pub struct Object<S: Scalar> {
     normal_to_world: Affine<S>,
     /// World-space bounding sphere (centre, radius); the plane has none.
     bound: Option<(Vec3<S>, S)>,
-    /// The plane's world unit normal, the same for every hit: computed once,
-    /// exactly as [`Object::normal`] would compute it per hit.
-    plane_normal: Vec3<S>,
+    /// What the shape needs per hit, computed once. The plane: its world
+    /// unit normal, the same for every hit, exactly as [`Object::normal`]
+    /// would compute it per hit. A curved shape (sphere, cylinder, cone): in
+    /// `x` its stretch, the longest row of world → object's linear part
+    /// (each rounded to `S`), the most object-space length a world length
+    /// can take, for [`Object::normal_spread`]. Zero otherwise. One slot for
+    /// both: a field more cost the micro:bit's flash 28 bytes.
+    per_shape: Vec3<S>,
 }
 
 impl<S: crate::number::BakeScalar> crate::bytes::Field for Object<S> {
@@ -161,7 +166,7 @@ impl<S: crate::number::BakeScalar> crate::bytes::Field for Object<S> {
         to_object,
         normal_to_world,
         bound,
-        plane_normal,
+        per_shape,
     }, check(obj) {
         // The plane is the one shape without a bounding sphere; intersect relies on it.
         if (obj.shape == Shape::Plane) != obj.bound.is_none() {
@@ -218,6 +223,22 @@ impl<S: Scalar> Object<S> {
             )
         });
         let normal_to_world = Affine::from_mat(&inv.linear_transpose());
+        let to_object = Affine::from_mat(&match bound {
+            // f32 applies it to a ray's offset from the rounded centre (`LOCAL_FROM_CENTRE`).
+            Some((c, _)) if S::LOCAL_FROM_CENTRE => inv.after(&Mat34::translate(c.to_f64())),
+            _ => inv,
+        });
+        let per_shape = match desc.shape {
+            Shape::Plane => normal_to_world.vector_unit(Vec3::new(S::ZERO, S::ZERO, S::ONE)).0,
+            Shape::Cube => Vec3::ZERO,
+            Shape::Sphere | Shape::Cylinder | Shape::Cone => Vec3::new(
+                (0..3)
+                    .map(|k| S::length3(core::array::from_fn(|j| to_object.entry(k, j))))
+                    .fold(S::ZERO, S::max),
+                S::ZERO,
+                S::ZERO,
+            ),
+        };
         Some(Object {
             shape: desc.shape,
             material: Material {
@@ -232,14 +253,10 @@ impl<S: Scalar> Object<S> {
             } else {
                 S::ZERO
             },
-            to_object: Affine::from_mat(&match bound {
-                // f32 applies it to a ray's offset from the rounded centre (`LOCAL_FROM_CENTRE`).
-                Some((c, _)) if S::LOCAL_FROM_CENTRE => inv.after(&Mat34::translate(c.to_f64())),
-                _ => inv,
-            }),
+            to_object,
             normal_to_world,
             bound,
-            plane_normal: normal_to_world.vector_unit(Vec3::new(S::ZERO, S::ZERO, S::ONE)).0,
+            per_shape,
         })
     }
 
@@ -545,7 +562,7 @@ impl<S: Scalar> Object<S> {
         // From the exact product: a large object's inverse transpose has entries of
         // 1/500, which rounded first would leave the normal a few bits.
         let n = if self.shape == Shape::Plane {
-            self.plane_normal
+            self.per_shape
         } else {
             self.normal_to_world.vector_unit(hit.local.n).0
         };
@@ -653,6 +670,37 @@ impl<S: Scalar> Object<S> {
     /// (`d` as rounded: the property test's).
     pub fn exact_t_along(&self, hit: &Hit<S>, o: Vec3<S>, d: Vec3<S>) -> Option<i64> {
         self.exact_t(hit, o, &S::dir_from(d.to_array()))
+    }
+
+    /// How far the unit normal turns across a lens ray's footprint of radius
+    /// `w` world units at `hit`: the object-space footprint (`w` times the
+    /// object's stretch, the longest row of world → object, computed at
+    /// set-up) times the surface's curvature there (1 on the unit sphere and
+    /// cylinder side, about 1/r at radius r on the cone's side; 0 on flat
+    /// faces and the plane), at most 1. The half-width of the band of n·l
+    /// over which a light's terminator step is box-filtered. `S`'s own
+    /// arithmetic only (no `f64`): it runs per hit.
+    pub fn normal_spread(&self, hit: &Hit<S>, w: S) -> S {
+        let n = hit.local.n;
+        let curved = match self.shape {
+            Shape::Sphere => true,
+            // The caps are flat.
+            Shape::Cylinder | Shape::Cone => !(n.x == S::ZERO && n.z == S::ZERO),
+            Shape::Plane | Shape::Cube => false,
+        };
+        if !curved || w <= S::ZERO {
+            return S::ZERO;
+        }
+        // The stretch (set-up).
+        let e = w.mul(self.per_shape.x);
+        let e = if self.shape == Shape::Cone {
+            let p = hit.local.p;
+            // 1/r, r held to at least 1/16 (the apex).
+            e.div(S::length3([p.x, S::ZERO, p.z]).max(S::from_q15(2048)))
+        } else {
+            e
+        };
+        e.min(S::ONE)
     }
 
     /// The checker's darkening (1 on a light square, 1/4 on a dark one)
@@ -822,6 +870,10 @@ pub struct Scene<S: Scalar> {
     /// to 18; see
     /// [`Scene::set_exact_retakes`]). Not baked, not parsed.
     pub(crate) exact_retake: bool,
+    /// Whether a stratified lens ray's specular is box-filtered across a
+    /// light's terminator over its footprint (see
+    /// [`Scene::set_terminator_filter`]). Not baked, not parsed.
+    pub(crate) terminator_filter: bool,
 }
 
 impl<S: Scalar> Scene<S> {
@@ -863,6 +915,24 @@ impl<S: Scalar> Scene<S> {
     pub(crate) fn exact_retakes(&self) -> bool {
         !cfg!(feature = "no-exact-retakes") && self.exact_retake
     }
+
+    /// Whether a stratified lens ray's specular steps to 0 at a light's
+    /// terminator (n·l = 0) box-filtered over the band of n·l its footprint
+    /// spans on a curved surface ([`Object::normal_spread`]) rather than
+    /// sharply. On by default; off, the step is sharp, as a build with the
+    /// feature `no-terminator-filter` (the micro:bit's) always has it. For
+    /// the host to render as the micro:bit does (its firmware test).
+    #[doc(hidden)]
+    pub fn set_terminator_filter(&mut self, on: bool) {
+        self.terminator_filter = on;
+    }
+
+    /// Whether the terminator is filtered: the switch, and never with the
+    /// feature `no-terminator-filter`.
+    #[inline(always)]
+    pub(crate) fn terminator_filtered(&self) -> bool {
+        !cfg!(feature = "no-terminator-filter") && self.terminator_filter
+    }
 }
 
 impl<S: Scalar> Default for Scene<S> {
@@ -875,6 +945,7 @@ impl<S: Scalar> Default for Scene<S> {
             shadows: false,
             objects: heapless::Vec::new(),
             exact_retake: true,
+            terminator_filter: true,
             lights: heapless::Vec::new(),
         }
     }
@@ -971,6 +1042,47 @@ mod tests {
         let want = [p[0] / 4.0, p[1], 0.0];
         let l = (want[0] * want[0] + want[1] * want[1]).sqrt();
         assert!(close(n, want.map(|x| x / l)), "{n:?}");
+    }
+
+    /// The footprint's turn of the normal: the set-up stretch (world →
+    /// object's longest row) times the footprint, 1/r on the cone's side,
+    /// none on flat faces, at most 1; the plane keeps its normal.
+    #[test]
+    fn normal_spread_from_the_set_up_stretch() {
+        fn spread<S: Scalar>(shape: Shape, m: Mat34, o: [f64; 3], d: [f64; 3], w: f64) -> f64 {
+            let obj = object::<S>(shape, m);
+            let (o, d) = (Vec3::<S>::from_f64(o), Vec3::<S>::from_f64(d).normalize());
+            let h = obj.intersect(o, d, S::HIT_EPSILON, S::MAX).unwrap();
+            obj.normal_spread(&h, S::from_f64(w)).to_f64()
+        }
+        fn each(shape: Shape, m: Mat34, o: [f64; 3], d: [f64; 3], w: f64, want: f64) {
+            let (a, b) = (spread::<f32>(shape, m, o, d, w), spread::<I16F16>(shape, m, o, d, w));
+            assert!(
+                (a - want).abs() < 1e-3 && (b - want).abs() < 1e-3,
+                "{shape:?}: {a} {b}, not {want}"
+            );
+        }
+        let down = [0.0, 0.0, -1.0];
+        // Scaled by (2, 4, 1): world → object's longest row is 1 (z).
+        let m = Mat34::translate([0.0, 0.0, -10.0]).after(&Mat34::scale([2.0, 4.0, 1.0]));
+        each(Shape::Sphere, m, [0.0; 3], down, 0.01, 0.01);
+        // Scaled by 0.5: a world length is twice as long in object space; at most 1.
+        let m = Mat34::translate([0.0, 0.0, -10.0]).after(&Mat34::scale([0.5; 3]));
+        each(Shape::Sphere, m, [0.0; 3], down, 0.01, 0.02);
+        each(Shape::Sphere, m, [0.0; 3], down, 1.0, 1.0);
+        // The cylinder's side, and its cap (flat) seen down its axis.
+        let m = Mat34::translate([0.0, 0.0, -10.0]);
+        each(Shape::Cylinder, m, [0.0; 3], down, 0.01, 0.01);
+        let up = Mat34::translate([0.0, 0.0, -10.0]).after(&Mat34::rotate(0, 90.0));
+        each(Shape::Cylinder, up, [0.0; 3], down, 0.01, 0.0);
+        // The cone's side at height 0 (radius 1/2): 1/r = 2.
+        each(Shape::Cone, m, [0.0; 3], down, 0.01, 0.02);
+        // Flat shapes never turn.
+        each(Shape::Cube, m, [0.0; 3], down, 0.01, 0.0);
+        each(Shape::Plane, m, [0.0; 3], down, 0.01, 0.0);
+        // The plane's slot still holds its normal.
+        let (_, n) = both(Shape::Plane, m, [0.0; 3], down).unwrap();
+        assert!(close(n, [0.0, 0.0, 1.0]), "{n:?}");
     }
 
     #[test]
