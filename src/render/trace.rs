@@ -318,6 +318,10 @@ impl<S: Scalar> Scene<S> {
             // light in some pixels and not others (seed 29172). Every type
             // (f32, float64's reference) casts the same segment; the micro:bit
             // (no retakes, no flash) P's own vector from p_shadow, as before.
+            // Below the terminator (within the band) P stands for the lit part
+            // of its footprint, whose shadow rays leave the lit side: its own
+            // convex surface is skipped in every type (f32 met it, Q16.16 not).
+            let own = if lit.is_some() && n_dot_l <= S::ZERO && outside { Some(i) } else { own };
             let blocked = self.shadows
                 && if self.exact_retakes() {
                     self.shadowed_to(p_shadow, light.position, S::HIT_EPSILON, own, from)
