@@ -321,7 +321,11 @@ impl<S: Scalar> Scene<S> {
             // Below the terminator (within the band) P stands for the lit part
             // of its footprint, whose shadow rays leave the lit side: its own
             // convex surface is skipped in every type (f32 met it, Q16.16 not).
-            let own = if lit.is_some() && n_dot_l <= S::ZERO && outside { Some(i) } else { own };
+            let own = if lit.is_some() && n_dot_l <= S::ZERO && outside {
+                Some(i)
+            } else {
+                own
+            };
             let blocked = self.shadows
                 && if self.exact_retakes() {
                     self.shadowed_to(p_shadow, light.position, S::HIT_EPSILON, own, from)
