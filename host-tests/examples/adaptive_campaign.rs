@@ -39,6 +39,7 @@ fn arg(i: usize, default: u64) -> u64 {
 /// `LENSRAY_CAMPAIGN_POINTS=LO-HI`: every seed rendered again at each `point`
 /// from LO to HI (its own `point` line replaced; the reference does not
 /// depend on it), and a summary a `point`: the floors below 20 on many scenes.
+/// `LENSRAY_CAMPAIGN_VERBOSE=1`: every seed's margin and share too.
 fn sweep(first: u64, count: u64, w: u32, h: u32, ref_n: u32, lo: u32, hi: u32) {
     for p in lo..=hi {
         let (mut met, mut flat_met, mut n) = (0, 0, 0);
@@ -68,6 +69,9 @@ fn sweep(first: u64, count: u64, w: u32, h: u32, ref_n: u32, lo: u32, hi: u32) {
                     100.0 * share,
                     flat.psnr - ind.psnr
                 ));
+            }
+            if std::env::var_os("LENSRAY_CAMPAIGN_VERBOSE").is_some() {
+                println!("  seed {seed} point {p}: {margin:+.2} dB at {:.1} %", 100.0 * share);
             }
             share_sum += share;
             worst_share = worst_share.max(share);

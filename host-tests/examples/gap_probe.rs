@@ -36,5 +36,12 @@ fn main() {
             100.0 * rays as f64 / cast as f64,
             r.adaptive_cap().1 as f64 / n
         );
+        let mut hist = [0u64; 17];
+        for y in 0..h {
+            for x in 0..w {
+                hist[(r.pixel_rays(x, y).1 as usize).min(16)] += 1;
+            }
+        }
+        println!("  extends {}; pixels by rays 0..16+: {hist:?}", r.extends());
     }
 }

@@ -65,7 +65,8 @@ pub struct Renderer<'a, S: Scalar> {
     /// anchors every this many columns (see [`scanline::fills`]; 0: no
     /// gaps); 8-15: the loose rule's levels the gaps fill by (0: the strict
     /// rule); 16, from [`ADAPTIVE_MIN_POINT`]: an unsettled pixel doubles its
-    /// pilot at least (see [`Renderer::doubling`]).
+    /// pilot at least (see [`Renderer::doubling`]); 17, below it with gaps:
+    /// a pixel whose first rays are wide takes every sample (see [`Renderer::extends`]).
     pub(crate) rules: u32,
 }
 
@@ -156,6 +157,14 @@ pub fn dithered_cap(cap: u32, col: u32, row: u32) -> u32 {
 pub fn dithered_budget(samples: u32, col: u32, row: u32) -> u32 {
     dithered_ratio(samples.saturating_mul(2), 5, col, row)
 }
+
+/// The range of a pixel's rays, in levels on some channel (the most less
+/// the least), above which a pixel that casts with gaps goes on from its
+/// budget to every sample (see [`Renderer::extends`]): at 2 or 4 rays a
+/// pixel, such a pixel is where the frame's error is (a lamp or an edge
+/// through part of the lens), and where its rays agree within 32 levels,
+/// `point` independent samples are within a few levels too.
+pub const EXTEND_LEVELS: u32 = 32;
 
 /// The gap periods a frame may take (see [`Renderer::gap_period`]): anchors
 /// every 2, 3 or 4 columns.
@@ -633,6 +642,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 if pass == 1 && self.samples == 1 {
                     break;
                 }
+                // The second pass with pixels that extend, counted (see [`Renderer::extends`]).
+                let extending = pass == 1 && self.samples >= 3 && !cfg!(feature = "no-spare-floor");
+                self.rules |= (extending as u32) << 17;
+                // By k: anchors that cast 2^k rays or more, and those whose first 2^k were wide.
+                let (mut cast, mut wide) = ([0u64; 17], [0u64; 17]);
                 let (mut tested, mut filled) = (0u64, [0u64; RUNGS]);
                 for j in 0..rows / s {
                     for k in 0..cols / s {
@@ -645,9 +659,17 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                         if x + period >= cols {
                             continue;
                         }
-                        let (l, nl, cl) = self.pixel_far(x, y);
-                        let (r, nr, cr) = self.pixel_far(x + period, y);
+                        let (l, nl, cl, wl) = self.pixel_far_wide(x, y);
+                        let (r, nr, cr, wr) = self.pixel_far_wide(x + period, y);
                         rays += (nl + nr) as u64;
+                        if extending {
+                            for (n, w) in [(nl, wl), (nr, wr)] {
+                                for k in 1..17 {
+                                    cast[k] += (n >> k != 0) as u64;
+                                    wide[k] += (w >> k & 1) as u64;
+                                }
+                            }
+                        }
                         tested += 1;
                         for (f, &level) in filled.iter_mut().zip(&levels) {
                             *f += scanline::fills((l, cl), (r, cr), level) as u64;
@@ -669,6 +691,38 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 let rung = budgets.iter().position(|&b| b >= want).unwrap_or(RUNGS - 1);
                 self.rules = period | (levels[rung] as u32) << 8;
                 self.budget256 = budgets[rung];
+                if extending {
+                    // The share of pixels wide at their first 2^k rays, two
+                    // deviations high (all where none cast them), in 65536ths.
+                    let share = |k: usize| -> u64 {
+                        let (c, w) = (cast[k], wide[k]);
+                        if c == 0 {
+                            return 1 << 16;
+                        }
+                        let var = (w * (c - w)).div_ceil(c);
+                        let high = (w + crate::number::wide::isqrt_rem_u64(4 * var).0 + 1).min(c);
+                        (high << 16).div_ceil(c)
+                    };
+                    let (b, p) = (self.budget256 as u64, self.samples as u64);
+                    // The most a pixel that casts may take before extending, B'
+                    // between L and 2L (powers of two), with what extending then
+                    // costs it at most: B' + cost <= B, the largest L first.
+                    let mut k = 31 - self.samples.leading_zeros() as usize;
+                    while k >= 1 {
+                        let low = 1u64 << k;
+                        let cost = |k: usize, n: u64| (256 * share(k) * p.saturating_sub(n)).div_ceil(1 << 16);
+                        let most = cost(k, low).max(if 2 * low < p { cost(k + 1, 2 * low) } else { 0 });
+                        let rest = b.saturating_sub(most).min(512 * low - 1);
+                        // Where few are wide: extending all is no choice of the worst.
+                        let few = share(k) <= 1 << 14;
+                        if few && low < p && rest >= 256 * low && rest >= want as u64 {
+                            self.budget256 = rest as u32;
+                            self.rules |= 1 << 17;
+                            break;
+                        }
+                        k -= 1;
+                    }
+                }
             }
             if self.budget256 >= want {
                 break;
@@ -714,7 +768,22 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// Whether an unsettled pixel doubles its pilot at least (see
     /// [`Renderer::pixel_rays`]): where the survey found the rays for it.
     pub fn doubling(&self) -> bool {
-        self.rules >> 16 != 0
+        self.rules >> 16 & 1 != 0
+    }
+
+    /// Whether a pixel that casts with gaps (`point` 3 to 9) goes on from
+    /// its budget ([`Renderer::fixed_budget`], a power of two) to every
+    /// sample where its rays so far are wider than [`EXTEND_LEVELS`]. The
+    /// gap survey's second pass renders its anchors with it and counts, for
+    /// each power of two L, the anchors that cast L rays and those whose
+    /// first L were wide; the budget B then drops to the largest B' (between
+    /// some L and 2L) with B' plus what extending costs at most (the wide
+    /// share, two deviations high, times `point` − L, and the same at 2L) within B,
+    /// at least a pair, where at most a quarter are wide (where most are,
+    /// extending them all picks none out: seed 9109 at `point` 9 lost 3.2 dB).
+    /// Not on the micro:bit (feature `no-spare-floor`).
+    pub fn extends(&self) -> bool {
+        !cfg!(feature = "no-spare-floor") && self.rules >> 17 & 1 != 0
     }
 
     /// The levels of [`scanline::fills`]' loose rule the gaps fill by (a
@@ -778,7 +847,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// takes no gap survey) renders them, 40 % of `point` each.
     pub fn without_gaps(mut self) -> Self {
         self.budget256 = 0;
-        self.rules &= !0xFFFF;
+        self.rules &= !0x2_FFFF;
         self
     }
 
@@ -881,8 +950,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// for the scanline filter (see [`scanline::Scanline`]; 0 where the
     /// renderer does not filter).
     fn pixel_far(&self, col: u32, row: u32) -> (Rgb888, u32, u8) {
-        let (c, n, _, far) = self.pixel_rays_within(col, row, self.cap);
-        (Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8()), n, far)
+        let (c, n, far, _) = self.pixel_far_wide(col, row);
+        (c, n, far)
+    }
+
+    /// [`Renderer::pixel_far`] and, with extension on, the powers of two at
+    /// which its rays' range was wide (see [`Renderer::extends`]).
+    fn pixel_far_wide(&self, col: u32, row: u32) -> (Rgb888, u32, u8, u32) {
+        let (c, n, wide_at, far) = self.pixel_rays_within(col, row, self.cap);
+        (Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8()), n, far, wide_at)
     }
 
     /// The first `cols` pixels (at most the image width) of row `row` as the
@@ -911,11 +987,34 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     }
 
     /// [`Renderer::pixel_rays`] and the pixel's spread at its last check if
-    /// it was not settled there, else 0 (diagnosis).
+    /// it was not settled there, else 0; below [`ADAPTIVE_MIN_POINT`] with
+    /// extension on (see [`Renderer::extends`]), the powers of two n, as
+    /// bits, at which its first n rays were wide (diagnosis).
     #[doc(hidden)]
     pub fn pixel_rays_spread(&self, col: u32, row: u32) -> (Vec3<S>, u32, u32) {
         let (c, n, spread, _) = self.pixel_rays_within(col, row, self.cap);
         (c, n, spread)
+    }
+
+    /// The rays pixel (`col`, `row`) casts below [`ADAPTIVE_MIN_POINT`]
+    /// (adaptive on; a gap casts none), before it extends (see
+    /// [`Renderer::extends`]): the frame's budget a pixel that casts
+    /// (40 % of `point` without gaps) dithered between powers of two, at
+    /// most `point`.
+    #[doc(hidden)]
+    #[inline(always)]
+    pub fn fixed_budget(&self, col: u32, row: u32) -> u32 {
+        // No gaps without the filter (the micro:bit's flash).
+        let budget = if cfg!(feature = "no-scanline-filter") {
+            0
+        } else {
+            self.budget256
+        };
+        match budget {
+            0 => dithered_budget(self.samples, col, row),
+            // Anchors every `gap_period` columns: their own full dither.
+            b => dithered_ratio(b, 256, col / self.gap_period().max(1), row).min(self.samples),
+        }
     }
 
     /// [`Renderer::pixel_rays`] with a cap of `most` samples for an adaptive
@@ -951,18 +1050,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut limit = if adaptive {
             most.max(check)
         } else if self.adaptive && self.samples >= ADAPTIVE_BUDGET_POINT {
-            // Below the small pilot: a fixed stratified budget, 40 % of `point`.
-            // No gaps without the filter (the micro:bit's flash).
-            let budget = if cfg!(feature = "no-scanline-filter") {
-                0
-            } else {
-                self.budget256
-            };
-            match budget {
-                0 => dithered_budget(self.samples, col, row),
-                // Anchors every `gap_period` columns: their own full dither.
-                b => dithered_ratio(b, 256, col / self.gap_period().max(1), row).min(self.samples),
-            }
+            self.fixed_budget(col, row)
         } else {
             self.samples
         };
@@ -991,6 +1079,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut stratum = self.defocus.stratum(check.min(full));
         // With gaps: whether some ray met a checker (see [`scanline::fills`]).
         let gaps = self.gaps();
+        // With extension on: its rays' levels' range, and the powers of two
+        // n at which the first n rays' range was above [`EXTEND_LEVELS`].
+        let track = !adaptive && gaps && self.extends();
+        let (mut lo, mut hi, mut wide_at) = ([u32::MAX; 3], [0u32; 3], 0u32);
         let mut textured = false;
         while n < limit {
             let ray = self.camera.generate_ray(&CameraSample {
@@ -1032,6 +1124,21 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 stats.add(n, check, c);
             }
             n += 1;
+            if track {
+                let levels = [c.x.to_level(), c.y.to_level(), c.z.to_level()];
+                for i in 0..3 {
+                    lo[i] = lo[i].min(levels[i]);
+                    hi[i] = hi[i].max(levels[i]);
+                }
+                if n >= 2 && n.is_power_of_two() && (0..3).any(|i| hi[i] - lo[i] > EXTEND_LEVELS) {
+                    wide_at |= n;
+                    // At its budget (a power of two below `point`): on to every sample.
+                    if n == limit {
+                        limit = self.samples;
+                        stratum = self.defocus.stratum(1 << (31 - self.samples.leading_zeros()));
+                    }
+                }
+            }
             if adaptive && n == check && n < self.samples {
                 // Its share beyond the pilot: the frame's, times its spread
                 // over the survey's mean (samples ∝ the standard deviation:
@@ -1071,7 +1178,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         } else {
             0
         } | if textured { scanline::TEXTURED } else { 0 };
-        (colour, n, spread, class)
+        (colour, n, if track { wide_at } else { spread }, class)
     }
 
     /// The cap of an unsettled pixel of pilot `pilot` and spread `spread`
