@@ -12,11 +12,8 @@ use lensray_host::convergence::reference;
 
 fn main() {
     let a: Vec<String> = std::env::args().collect();
-    let seed: u64 = a[1].parse().unwrap();
-    let w: u32 = a[2].parse().unwrap();
+    let (seed, text, w, h) = lensray_host::convergence::seed_frame(&a);
     let ref_n: u32 = a[3].parse().unwrap();
-    let h = w * 3 / 4;
-    let text = lensray_testkit::scenegen::generate_lens(seed);
     let truth = reference(&text, w, h, ref_n, Sampler::Stratified).unwrap();
     let mut scene = Scene::<I16F16>::parse(&text).unwrap();
     scene.camera.sampler = Sampler::Stratified;

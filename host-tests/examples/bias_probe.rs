@@ -49,10 +49,7 @@ fn stats(name: &str, img: &Image, truth: &Image) {
 
 fn main() {
     let a: Vec<String> = std::env::args().collect();
-    let seed: u64 = a[1].parse().unwrap();
-    let w: u32 = a[2].parse().unwrap();
-    let h = w * 3 / 4;
-    let mut text = lensray_testkit::scenegen::generate_lens(seed);
+    let (seed, mut text, w, h) = lensray_host::convergence::seed_frame(&a);
     if let Ok(k) = std::env::var("STRIP") {
         text = text
             .lines()

@@ -19,11 +19,8 @@ use lensray::{Scene, I16F16};
 
 fn main() {
     let a: Vec<String> = std::env::args().collect();
-    let seed: u64 = a[1].parse().unwrap();
-    let w: u32 = a[2].parse().unwrap();
+    let (_, text, w, h) = lensray_host::convergence::seed_frame(&a);
     let n: u32 = a[3].parse().unwrap();
-    let h = w * 3 / 4;
-    let text = lensray_testkit::scenegen::generate_lens(seed);
     let scene = Scene::<I16F16>::parse(&text).unwrap();
     let cam = Camera::new(&scene.camera, w, h);
     let cones = LensCones::new(&scene, scene.camera.lens_position, scene.camera.radius);

@@ -15,12 +15,9 @@ use lensray_host::convergence::reference;
 
 fn main() {
     let a: Vec<String> = std::env::args().collect();
-    let seed: u64 = a[1].parse().unwrap();
-    let w: u32 = a[2].parse().unwrap();
+    let (seed, text, w, h) = lensray_host::convergence::seed_frame(&a);
     let n: u32 = a.get(3).map_or(16, |s| s.parse().unwrap());
     let strata: u32 = a.get(4).map_or(n, |s| s.parse().unwrap());
-    let h = w * 3 / 4;
-    let text = lensray_testkit::scenegen::generate_lens(seed);
     let truth = reference(&text, w, h, 1024, Sampler::Stratified).unwrap();
     let text2 = match std::env::var("STRIP") {
         Ok(v) => text

@@ -10,10 +10,7 @@ use lensray_host::convergence::reference;
 
 fn main() {
     let a: Vec<String> = std::env::args().collect();
-    let seed: u64 = a[1].parse().unwrap();
-    let w: u32 = a[2].parse().unwrap();
-    let h = w * 3 / 4;
-    let mut text = lensray_testkit::scenegen::generate_lens(seed);
+    let (seed, mut text, w, h) = lensray_host::convergence::seed_frame(&a);
     if let Some(p) = a.get(3).and_then(|p| p.parse().ok()) {
         text = lensray_host::convergence::with_point(&text, p);
     }

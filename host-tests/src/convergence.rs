@@ -138,3 +138,16 @@ pub fn with_point(text: &str, point: u32) -> String {
         .collect::<Vec<_>>()
         .join("\n")
 }
+
+/// A diagnosis example's first arguments SEED WIDTH (`args` as
+/// `std::env::args` gives them): SEED, the generated lens scene of SEED, and
+/// the frame's width and height (WIDTH × 3/4 WIDTH).
+///
+/// # Panics
+///
+/// Where SEED or WIDTH is missing or not a number (a diagnosis tool's usage).
+pub fn seed_frame(args: &[String]) -> (u64, String, u32, u32) {
+    let seed: u64 = args[1].parse().expect("SEED");
+    let w: u32 = args[2].parse().expect("WIDTH");
+    (seed, lensray_testkit::scenegen::generate_lens(seed), w, w * 3 / 4)
+}

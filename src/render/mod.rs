@@ -792,11 +792,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// sample where its rays so far are wider than [`EXTEND_LEVELS`]. The
     /// gap survey's second pass renders its anchors with it and counts, for
     /// each power of two L, the anchors that cast L rays and those whose
-    /// first L were wide; the budget B then drops to the largest B' (between
-    /// some L and 2L) with B' plus what extending costs at most (the wide
-    /// share, two deviations high, times `point` − L, and the same at 2L) within B,
-    /// at least a pair, where at most a quarter are wide (where most are,
-    /// extending them all picks none out: seed 9109 at `point` 9 lost 3.2 dB).
+    /// first L were wide, all of them and those of the pairs left unfilled
+    /// (standing for the gaps that cast); the budget B then drops to the
+    /// largest B' (between some L and 2L) with B' plus what extending costs
+    /// at most (the wide share of the pixels that cast, two deviations high,
+    /// times `point` − L, and the same at 2L) within B, at least a pair,
+    /// where at most a quarter are wide (where most are, extending them all
+    /// picks none out: seed 9109 at `point` 9 lost 3.2 dB).
     /// Not on the micro:bit (feature `no-spare-floor`).
     pub fn extends(&self) -> bool {
         !cfg!(feature = "no-spare-floor") && self.rules >> 17 & 1 != 0
