@@ -49,7 +49,7 @@ fn stats(name: &str, img: &Image, truth: &Image) {
 
 fn main() {
     let a: Vec<String> = std::env::args().collect();
-    let (seed, mut text, w, h) = lensray_host::convergence::seed_frame(&a);
+    let (_, mut text, w, h) = lensray_host::convergence::seed_frame(&a);
     if let Ok(k) = std::env::var("STRIP") {
         text = text
             .lines()
