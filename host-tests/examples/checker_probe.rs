@@ -63,7 +63,18 @@ fn main() {
     let mut rows = Vec::new();
     let mut rh = [[0u64; 9]; 2];
     let mut capside = [[0f64; 3]; 2];
-    let mut grp = std::collections::BTreeMap::<usize, (u64, [f64; 3], [f64; 3], [f64; 3], [f64; 3])>::new();
+    // Per object: rays, and sums of the filtered and unfiltered colours and their squares.
+    type Sums = (f64, [f64; 3], [f64; 3], [f64; 3], [f64; 3]);
+    fn add(g: &mut Sums, c: [f64; 3], cu: [f64; 3]) {
+        g.0 += 1.0;
+        for k in 0..3 {
+            g.1[k] += c[k];
+            g.2[k] += c[k] * c[k];
+            g.3[k] += cu[k];
+            g.4[k] += cu[k] * cu[k];
+        }
+    }
+    let mut grp = std::collections::BTreeMap::<usize, Sums>::new();
     let mut within = [0f64; 2];
     let mut mixed = 0u64;
     let bytes = lensray_host::encode(&truth, lensray_host::Format::Png).unwrap();
@@ -74,7 +85,7 @@ fn main() {
             let mut lens = PixelSamples::new(Sampler::Stratified, x, y);
             let (mut s1, mut s2, mut u1, mut u2) = ([0f64; 3], [0f64; 3], [0f64; 3], [0f64; 3]);
             let (mut tex, mut filt, mut cells) = (0u32, 0u32, 0f64);
-            let mut pg = std::collections::BTreeMap::<usize, (f64, [f64; 3], [f64; 3], [f64; 3], [f64; 3])>::new();
+            let mut pg = std::collections::BTreeMap::<usize, Sums>::new();
             for _ in 0..n {
                 let ray = cam.generate_ray(&CameraSample {
                     film: &film,
@@ -89,24 +100,9 @@ fn main() {
                     u1[k] += cu[k];
                     u2[k] += cu[k] * cu[k];
                 }
-                {
-                    let g = pg.entry(t.map_or(99, |(i, _)| i)).or_default();
-                    g.0 += 1.0;
-                    for k in 0..3 {
-                        g.1[k] += c[k];
-                        g.2[k] += c[k] * c[k];
-                        g.3[k] += cu[k];
-                        g.4[k] += cu[k] * cu[k];
-                    }
-                    let gt = grp.entry(t.map_or(99, |(i, _)| i)).or_default();
-                    gt.0 += 1;
-                    for k in 0..3 {
-                        gt.1[k] += c[k];
-                        gt.2[k] += c[k] * c[k];
-                        gt.3[k] += cu[k];
-                        gt.4[k] += cu[k] * cu[k];
-                    }
-                }
+                let key = t.map_or(99, |(i, _)| i);
+                add(pg.entry(key).or_default(), c, cu);
+                add(grp.entry(key).or_default(), c, cu);
                 objhits[t.map_or(scene.objects().len(), |(i, _)| i)] += 1;
                 if let Some((i, _)) = t {
                     let o = &scene.objects()[i];
@@ -183,12 +179,8 @@ fn main() {
     );
     println!("pixels with rays on more than one object: {mixed} of {}; within-object variance per pixel (of the total above): filtered {:.1}, unfiltered {:.1}", w*h, within[0]/n as f64/p, within[1]/n as f64/p);
     for (i, gt) in &grp {
-        let m = |s: [f64; 3]| s.map(|v| v / gt.0 as f64);
-        let v = |a: [f64; 3], b: [f64; 3]| {
-            (0..3)
-                .map(|k| b[k] / gt.0 as f64 - (a[k] / gt.0 as f64).powi(2))
-                .sum::<f64>()
-        };
+        let m = |s: [f64; 3]| s.map(|v| v / gt.0);
+        let v = |a: [f64; 3], b: [f64; 3]| (0..3).map(|k| b[k] / gt.0 - (a[k] / gt.0).powi(2)).sum::<f64>();
         println!("  object {i}: {} rays, mean colour {:.1?} (unfiltered {:.1?}), frame-wide variance filtered {:.1} unfiltered {:.1}", gt.0, m(gt.1), m(gt.3), v(gt.1,gt.2), v(gt.3,gt.4));
     }
     println!(
