@@ -70,8 +70,9 @@ impl<S: Scalar> Defocus<S> {
     }
 
     /// A ray's footprint radius per unit of |1 − z/z_f| when it stands for
-    /// one of `strata` (a power of two) equal strata of the lens: the radius
-    /// over √strata, by shifts (no square root on the per-pixel path).
+    /// one of `strata` equal strata of the lens (rounded down to a power of
+    /// two: a stratified set's full blocks): the radius over √strata, by
+    /// shifts (no square root on the per-pixel path).
     #[inline]
     pub fn stratum(&self, strata: u32) -> S {
         let m = 31 - strata.max(1).leading_zeros();

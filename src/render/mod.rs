@@ -667,18 +667,23 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                         let (r, nr, cr, wr) = self.pixel_far_wide(x + period, y);
                         rays += (nl + nr) as u64;
                         tested += 1;
+                        // The pair's two anchors into group g's counts.
+                        let mut count = |g: usize| {
+                            for (n, w) in [(nl, wl), (nr, wr)] {
+                                for k in 1..5 {
+                                    cast[g][k] += (n >> k != 0) as u64;
+                                    wide[g][k] += (w >> k & 1) as u64;
+                                }
+                            }
+                        };
+                        if extending {
+                            count(0);
+                        }
                         for (i, (f, &level)) in filled.iter_mut().zip(&levels).enumerate() {
                             let fill = scanline::fills((l, cl), (r, cr), level);
                             *f += fill as u64;
-                            for g in [0, i + 1] {
-                                if extending && (g == 0 && i == 0 || g > 0 && !fill) {
-                                    for (n, w) in [(nl, wl), (nr, wr)] {
-                                        for k in 1..5 {
-                                            cast[g][k] += (n >> k != 0) as u64;
-                                            wide[g][k] += (w >> k & 1) as u64;
-                                        }
-                                    }
-                                }
+                            if extending && !fill {
+                                count(i + 1);
                             }
                         }
                     }
@@ -1153,7 +1158,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     // At its budget (a power of two below `point`): on to every sample.
                     if n == limit {
                         limit = self.samples;
-                        stratum = self.defocus.stratum(1 << (31 - self.samples.leading_zeros()));
+                        stratum = self.defocus.stratum(self.samples);
                     }
                 }
             }

@@ -312,20 +312,17 @@ impl<S: Scalar> Scene<S> {
             // Within ±band of the terminator: the lit share of the footprint,
             // the step at n·l = 0 box-filtered.
             let lit = (n_dot_l < band).then(|| n_dot_l.add(band).div(band.add(band)));
+            // Below the terminator (only within the band gets here) P stands for
+            // the lit part of its footprint, whose shadow rays leave the lit
+            // side: its own convex surface is skipped in every type (f32 met it,
+            // Q16.16 not).
+            let own = if n_dot_l <= S::ZERO && outside { Some(i) } else { own };
             // The segment from just above P to the light itself (SPEC: "a light
             // whose segment from P is blocked"): along P's own vector from
             // p_shadow it ended at light + n ε, past a surface 5e-4 behind the
             // light in some pixels and not others (seed 29172). Every type
             // (f32, float64's reference) casts the same segment; the micro:bit
             // (no retakes, no flash) P's own vector from p_shadow, as before.
-            // Below the terminator (within the band) P stands for the lit part
-            // of its footprint, whose shadow rays leave the lit side: its own
-            // convex surface is skipped in every type (f32 met it, Q16.16 not).
-            let own = if lit.is_some() && n_dot_l <= S::ZERO && outside {
-                Some(i)
-            } else {
-                own
-            };
             let blocked = self.shadows
                 && if self.exact_retakes() {
                     self.shadowed_to(p_shadow, light.position, S::HIT_EPSILON, own, from)
