@@ -334,3 +334,32 @@ fn plane_hits_beyond_the_range_are_drawn() {
     }
     assert!(far > 0);
 }
+
+/// A channel's fine value rounds to its 8-bit level exactly as `to_u8`
+/// does, in both number types, at every Q16.16 value from below black to
+/// above white and at each side of every rounding point (what lets a row
+/// carry fine values and still yield the pixels it yielded).
+#[test]
+fn fine_values_round_to_the_same_levels() {
+    fn check<S: Scalar>(v: S) {
+        assert_eq!(v.to_u8(), ((v.to_fine() as u32 + 128) >> 8) as u8, "{v:?}");
+        assert!(v.to_fine() <= 255 << 8, "{v:?}");
+    }
+    for bits in -1000..(1 << 16) + 1000 {
+        let q = I16F16::from_bits(bits);
+        check(q);
+        check(q.to_num::<f32>());
+    }
+    for level in 0..255u32 {
+        let half = (level as f32 + 0.5) / 255.0;
+        for v in [
+            half,
+            f32::from_bits(half.to_bits() - 1),
+            f32::from_bits(half.to_bits() + 1),
+        ] {
+            check(v);
+        }
+    }
+    check(f32::NAN);
+    check(f32::INFINITY);
+}

@@ -2,8 +2,11 @@
 //! `round_probe SEED WIDTH [POINT]` histograms of |error| per channel against
 //! the converged reference for the default render, `point` independent and
 //! `point` stratified samples, and the worst pixels of the default render;
+//! the default's channels off at anchors and at gaps (`SHOW=1`: the first
+//! gaps off, with their anchors' and their own unrounded values);
 //! the images as round-SEED-{truth,default,independent,stratified}.png in the temp dir.
 use embedded_graphics_core::pixelcolor::RgbColor;
+use lensray::unstable::number::Scalar;
 use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
 use lensray_host::convergence::reference;
@@ -34,6 +37,9 @@ fn main() {
     for (name, sc) in [("default", &d), ("independent", &i), ("stratified", &st)] {
         let r = Renderer::new(sc, w, h);
         let mut hist = [0u64; 6];
+        // Channels a level or more off, at anchors and at gaps (period from the renderer).
+        let period = r.gap_period();
+        let (mut at_anchor, mut at_gap) = (0u64, 0u64);
         let mut worst = Vec::new();
         let mut row = vec![Default::default(); w as usize];
         for y in 0..h {
@@ -44,6 +50,26 @@ fn main() {
                 let e = [c.r().abs_diff(t.r()), c.g().abs_diff(t.g()), c.b().abs_diff(t.b())];
                 for &v in &e {
                     hist[(v as usize).min(5)] += 1;
+                    if v > 0 && period >= 2 {
+                        if (x + period - lensray::unstable::render::gap_phase(y, period)).is_multiple_of(period) {
+                            at_anchor += 1;
+                        } else {
+                            at_gap += 1;
+                            if at_gap <= 12 && std::env::var_os("SHOW").is_some() && x > 0 && x + 1 < w {
+                                let l = |x: u32| {
+                                    r.pixel_colour(x, y)
+                                        .to_array()
+                                        .map(|v| (v.to_f64() * 255.0 * 100.0).round() / 100.0)
+                                };
+                                println!(
+                                    "  gap ({x}, {y}): out {c:?} truth {t:?}; left {:?} own {:?} right {:?}",
+                                    l(x - 1),
+                                    l(x),
+                                    l(x + 1)
+                                );
+                            }
+                        }
+                    }
                 }
                 let m = *e.iter().max().unwrap();
                 if m >= 2 {
@@ -58,7 +84,7 @@ fn main() {
         save(name, &img);
         worst.sort_by(|a, b| b.cmp(a));
         println!(
-            "{name:12} |err| 0..5+: {hist:?}; worst {:?}",
+            "{name:12} |err| 0..5+: {hist:?} (off at anchors {at_anchor}, at gaps {at_gap}, period {period}); worst {:?}",
             &worst[..worst.len().min(12)]
         );
     }

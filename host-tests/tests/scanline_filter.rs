@@ -6,13 +6,14 @@
 //! whose rays met both counts as meeting none where every lamp it met is
 //! spread over the brightest lamp's bound times the gate), and then it
 //! is exactly (1, 2, 1)/4 of the three, or (1, 4, 6, 4, 1)/16 of five where
-//! it and its four neighbours see only what is spread over twice that; never
+//! it and its four neighbours see only what is spread over twice that (of
+//! their own values, in 256ths of a level, rounded once); never
 //! with `sampler independent` or `adaptive off`; the progressive passes end
 //! on the same picture.
 
 use embedded_graphics::mock_display::MockDisplay;
 use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
-use lensray::unstable::render::scanline::{far_coc_pixels, far_ratio, FAR_COC_PIXELS, WIDE_COC_FACTOR};
+use lensray::unstable::render::scanline::{far_coc_pixels, far_ratio, Fine, FAR_COC_PIXELS, WIDE_COC_FACTOR};
 use lensray::unstable::sampler::{PixelSamples, Sampler};
 use lensray::{progressive, CameraSample, Renderer, Scalar, Scene, I16F16};
 
@@ -77,17 +78,24 @@ fn coc_and_lamps<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row
     (coc, met, both && met == 2)
 }
 
-fn mix5(p: &[Rgb888]) -> Rgb888 {
-    let m = |f: fn(&Rgb888) -> u8| {
-        let v: u32 = [1, 4, 6, 4, 1].iter().zip(p).map(|(w, c)| w * f(c) as u32).sum();
-        ((v + 8) / 16) as u8
+/// (1, 4, 6, 4, 1)/16 of five pixels' own values (256ths of a level),
+/// rounded once, half up.
+fn mix5(p: &[Fine]) -> Rgb888 {
+    let m = |i: usize| {
+        let v: f64 = [1.0, 4.0, 6.0, 4.0, 1.0]
+            .iter()
+            .zip(p)
+            .map(|(w, c)| w * c.0[i] as f64)
+            .sum();
+        (v / 16.0 / 256.0 + 0.5).floor() as u8
     };
-    Rgb888::new(m(|c| c.r()), m(|c| c.g()), m(|c| c.b()))
+    Rgb888::new(m(0), m(1), m(2))
 }
 
-fn mix(a: Rgb888, b: Rgb888, c: Rgb888) -> Rgb888 {
-    let m = |x: u8, y: u8, z: u8| ((x as u32 + 2 * y as u32 + z as u32 + 2) / 4) as u8;
-    Rgb888::new(m(a.r(), b.r(), c.r()), m(a.g(), b.g(), c.g()), m(a.b(), b.b(), c.b()))
+/// (1, 2, 1)/4 of three pixels' own values, rounded once, half up.
+fn mix(a: Fine, b: Fine, c: Fine) -> Rgb888 {
+    let m = |i: usize| ((a.0[i] as f64 + 2.0 * b.0[i] as f64 + c.0[i] as f64) / 4.0 / 256.0 + 0.5).floor() as u8;
+    Rgb888::new(m(0), m(1), m(2))
 }
 
 /// Every row of `scene` at `w`×`h`: (pixels filtered, pixels the gate held back).
@@ -98,6 +106,7 @@ fn check<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, label: &str) -> (u32, u32)
     for row in 0..h {
         let mut out = vec![Rgb888::BLACK; w as usize];
         r.render_row(row, &mut out);
+        let fine: Vec<Fine> = (0..w).map(|c| r.pixel_fine(c, row)).collect();
         let alone: Vec<Rgb888> = (0..w).map(|c| r.pixel(c, row)).collect();
         let info: Vec<(f64, u8)> = (0..w).map(|c| smallest_coc(&r, scene, c, row)).collect();
         // The frame's gate: 4 pixels, 2 below `point` 20.
@@ -117,12 +126,12 @@ fn check<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, label: &str) -> (u32, u32)
                 let least5 = five.iter().map(|x| x.0).fold(f64::INFINITY, f64::min);
                 let alike5 = five[0].1 != 3 && five.iter().all(|x| x.1 == five[0].1);
                 if alike5 && least5 >= 1.02 * wide_coc {
-                    assert_eq!(out[c], mix5(&alone[c - 2..=c + 2]), "{label} ({c}, {row}) 5-tap");
+                    assert_eq!(out[c], mix5(&fine[c - 2..=c + 2]), "{label} ({c}, {row}) 5-tap");
                     filtered += 1;
                     continue;
                 }
                 // Within the slack either filter may hold.
-                if alike5 && least5 >= 0.98 * wide_coc && out[c] == mix5(&alone[c - 2..=c + 2]) {
+                if alike5 && least5 >= 0.98 * wide_coc && out[c] == mix5(&fine[c - 2..=c + 2]) {
                     continue;
                 }
             }
@@ -137,19 +146,11 @@ fn check<S: Scalar>(scene: &Scene<S>, w: u32, h: u32, label: &str) -> (u32, u32)
                     alike && least >= 0.98 * gate,
                     "{label} ({c}, {row}) filtered at a circle of confusion of {least:.2} pixels, {window:?}"
                 );
-                assert_eq!(
-                    out[c],
-                    mix(alone[c - 1], alone[c], alone[c + 1]),
-                    "{label} ({c}, {row})"
-                );
+                assert_eq!(out[c], mix(fine[c - 1], fine[c], fine[c + 1]), "{label} ({c}, {row})");
             }
             if alike && least >= 1.02 * gate {
                 // The gate is open here: the row holds the mix (equal to the pixel where smooth).
-                assert_eq!(
-                    out[c],
-                    mix(alone[c - 1], alone[c], alone[c + 1]),
-                    "{label} ({c}, {row})"
-                );
+                assert_eq!(out[c], mix(fine[c - 1], fine[c], fine[c + 1]), "{label} ({c}, {row})");
                 filtered += 1;
             } else if !alike || least < 0.98 * gate {
                 assert_eq!(out[c], alone[c], "{label} ({c}, {row})");

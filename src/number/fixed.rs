@@ -604,6 +604,13 @@ impl Kernels for I16F16 {
         ((b * 255 + (1 << 15)) >> 16) as u8
     }
     #[inline]
+    fn to_fine(self) -> u16 {
+        // 255 · 2¹⁶ fits a u32; truncating 8 of the 16 bits to_u8 rounds
+        // away cannot cross its rounding point.
+        let b = self.to_bits().clamp(0, 1 << 16) as u32;
+        ((b * 255) >> 8) as u16
+    }
+    #[inline]
     fn to_level(self) -> u32 {
         // v < 257 keeps 255 v below 65536: one 32-bit multiply, exact.
         let b = self.to_bits().clamp(0, 257 << 16) as u32;

@@ -254,6 +254,19 @@ impl Kernels for f32 {
         (v * 255.0 + 0.5) as u8
     }
     #[inline]
+    fn to_fine(self) -> u16 {
+        let v = if self > 1.0 {
+            1.0
+        } else if self > 0.0 {
+            self
+        } else {
+            0.0
+        };
+        // The very sum to_u8 truncates (its own rounding: 0.5/255 gives 1),
+        // times 256 (exact), less the half: (fine + 128) >> 8 is to_u8.
+        (((v * 255.0 + 0.5) * 256.0) as u32 - 128) as u16
+    }
+    #[inline]
     fn to_level(self) -> u32 {
         <f32 as Scalar>::mul(self, <f32 as Scalar>::from_i32(255))
             .floor_i32()

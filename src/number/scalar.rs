@@ -323,6 +323,12 @@ mod kernels {
         /// A colour channel clamped to [0, 1] and rounded to 8 bits: `round(255 v)`.
         fn to_u8(self) -> u8;
 
+        /// A colour channel clamped to [0, 1] in 256ths of an 8-bit level,
+        /// truncated: `⌊256 · 255 v⌋` (f32: of its rounded `255 v + ½`, less
+        /// 128), so that [`Kernels::to_u8`] is exactly `(to_fine + 128) >> 8`
+        /// (what gaps interpolate: see [`crate::render::scanline::Fine`]).
+        fn to_fine(self) -> u16;
+
         /// A colour channel in 8-bit levels, unclamped above white: `⌊255 v⌋`
         /// clamped to 0..=65535 (what adaptive sampling's statistics count).
         fn to_level(self) -> u32;

@@ -972,9 +972,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// Pixel (`col`, `row`) as 8-bit RGB, the rays it cast, and its class
     /// for the scanline filter (see [`scanline::Scanline`]; 0 where the
     /// renderer does not filter).
-    fn pixel_far(&self, col: u32, row: u32) -> (Rgb888, u32, u8) {
-        let (c, n, far, _) = self.pixel_far_wide(col, row);
-        (c, n, far)
+    fn pixel_far(&self, col: u32, row: u32) -> (scanline::Fine, u32, u8) {
+        let (c, n, _, far) = self.pixel_rays_within(col, row, self.cap);
+        (scanline::Fine([c.x.to_fine(), c.y.to_fine(), c.z.to_fine()]), n, far)
     }
 
     /// [`Renderer::pixel_far`] and, with extension on, the powers of two at
@@ -987,7 +987,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// The first `cols` pixels (at most the image width) of row `row` as the
     /// picture has them: filtered where far out of focus, with gaps below
     /// [`ADAPTIVE_MIN_POINT`] (see [`scanline`]).
-    pub fn scanline(&self, row: u32, cols: u32) -> scanline::Scanline<impl FnMut(u32) -> (Rgb888, u32, u8) + '_> {
+    pub fn scanline(
+        &self,
+        row: u32,
+        cols: u32,
+    ) -> scanline::Scanline<impl FnMut(u32) -> (scanline::Fine, u32, u8) + '_> {
         scanline::Scanline::new(move |col| self.pixel_far(col, row), cols.min(self.camera.cols()))
             .with_filter(self.filters())
             .with_gaps(self.gaps().then(|| {
@@ -1242,6 +1246,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     pub fn pixel(&self, col: u32, row: u32) -> Rgb888 {
         let c = self.pixel_colour(col, row);
         Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8())
+    }
+
+    /// Pixel (`col`, `row`) in 256ths of a level a channel, as rows carry it
+    /// to the scanline filter and gaps ([`scanline::Fine`]; its
+    /// [`scanline::Fine::rgb`] is [`Renderer::pixel`]).
+    pub fn pixel_fine(&self, col: u32, row: u32) -> scanline::Fine {
+        let c = self.pixel_colour(col, row);
+        scanline::Fine([c.x.to_fine(), c.y.to_fine(), c.z.to_fine()])
     }
 
     /// Fills `out` with row `row`, from column 0 (`out.len()` pixels at most
