@@ -244,27 +244,13 @@ impl Kernels for f32 {
     }
     #[inline]
     fn to_u8(self) -> u8 {
-        let v = if self > 1.0 {
-            1.0
-        } else if self > 0.0 {
-            self
-        } else {
-            0.0
-        };
-        (v * 255.0 + 0.5) as u8
+        half_up_levels(self) as u8
     }
     #[inline]
     fn to_fine(self) -> u16 {
-        let v = if self > 1.0 {
-            1.0
-        } else if self > 0.0 {
-            self
-        } else {
-            0.0
-        };
         // The very sum to_u8 truncates (its own rounding: 0.5/255 gives 1),
         // times 256 (exact), less the half: (fine + 128) >> 8 is to_u8.
-        (((v * 255.0 + 0.5) * 256.0) as u32 - 128) as u16
+        ((half_up_levels(self) * 256.0) as u32 - 128) as u16
     }
     #[inline]
     fn to_level(self) -> u32 {
@@ -272,6 +258,19 @@ impl Kernels for f32 {
             .floor_i32()
             .clamp(0, 65535) as u32
     }
+}
+
+/// 255 v + ½ of a channel clamped to [0, 1] (NaN as 0), in f32: to_u8 truncates it.
+#[inline]
+fn half_up_levels(v: f32) -> f32 {
+    let v = if v > 1.0 {
+        1.0
+    } else if v > 0.0 {
+        v
+    } else {
+        0.0
+    };
+    v * 255.0 + 0.5
 }
 
 impl BakeScalar for f32 {
