@@ -979,9 +979,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
 
     /// [`Renderer::pixel_far`] and, with extension on, the powers of two at
     /// which its rays' range was wide (see [`Renderer::extends`]).
-    fn pixel_far_wide(&self, col: u32, row: u32) -> (Rgb888, u32, u8, u32) {
+    fn pixel_far_wide(&self, col: u32, row: u32) -> (scanline::Fine, u32, u8, u32) {
         let (c, n, wide_at, far) = self.pixel_rays_within(col, row, self.cap);
-        (Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8()), n, far, wide_at)
+        (
+            scanline::Fine([c.x.to_fine(), c.y.to_fine(), c.z.to_fine()]),
+            n,
+            far,
+            wide_at,
+        )
     }
 
     /// The first `cols` pixels (at most the image width) of row `row` as the

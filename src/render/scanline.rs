@@ -230,26 +230,32 @@ impl From<Rgb888> for Fine {
 pub const GAP_LOOSE_LEVELS: [u8; 4] = [8, 24, 64, 255];
 
 /// The most a gap's two anchors may differ, in levels on every channel, for
-/// the gap to take their mean whatever their classes (see [`fills`]).
+/// the gap to take their mean whatever their classes (see [`fills`]): on
+/// their own values ([`Fine`]), less than `GAP_LEVELS + 1` apart, the
+/// widest two pixels a level apart could be (on their rounded levels, 9.4
+/// and 10.6 read 2 apart and cast; seeds 9000-9219 by twenties at 160x120,
+/// `point` 1 to 9: 525 -> 527 of 540 frames meet both floors, none lost).
 pub const GAP_LEVELS: u8 = 1;
 
 /// Whether the gap pixels between two anchors `left` and `right` (colour and
 /// class) cast no ray and take the line between them: where both see only
 /// what is spread over twice the filter's gate (the 5-tap's class: the
 /// picture is nearly linear over a few pixels there) and share a lamp class,
-/// or where their colours are within [`GAP_LEVELS`] on every channel and
-/// neither met a checker (unless both are out of focus). `loose` above 0:
-/// within that many levels on any surface (a rung of [`GAP_LOOSE_LEVELS`]),
+/// or where their own values ([`Fine`]) are less than [`GAP_LEVELS`] + 1
+/// apart on every channel and neither met a checker (unless both are out
+/// of focus). `loose` above 0: less than that many levels + 1 apart on any
+/// surface (a rung of [`GAP_LOOSE_LEVELS`]),
 /// for frames where the strict rule fills too few gaps to leave a ray a
 /// pixel (see `Renderer::gap_period`).
 #[inline]
-pub fn fills(left: (Rgb888, u8), right: (Rgb888, u8), loose: u8) -> bool {
+pub fn fills(left: (Fine, u8), right: (Fine, u8), loose: u8) -> bool {
     let (a, b) = (left.0, right.0);
-    let levels = if loose > 0 { loose } else { GAP_LEVELS };
-    let close = |x: u8, y: u8| x.abs_diff(y) <= levels;
+    // Less than one level more than the rule's levels, in 256ths.
+    let most = ((if loose > 0 { loose } else { GAP_LEVELS } as u32) << 8) + 255;
+    let close = |i: usize| (a.0[i] as u32).abs_diff(b.0[i] as u32) <= most;
     // A checker may hide a square between two anchors of one colour.
     let smooth = loose > 0 || (left.1 | right.1) & TEXTURED == 0 || left.1 & right.1 & 3 != 0;
-    let near = smooth && close(a.r(), b.r()) && close(a.g(), b.g()) && close(a.b(), b.b());
+    let near = smooth && close(0) && close(1) && close(2);
     let (l, r) = (left.1 & FILTER_BITS, right.1 & FILTER_BITS);
     let far = l & 3 != 0 && l & WIDE != 0 && l == r;
     far || near
@@ -355,7 +361,7 @@ impl<F: FnMut(u32) -> (Fine, u32, u8)> Scanline<F> {
             if k >= offset && next < self.cols {
                 let p = self.render(next);
                 self.right = Some(p);
-                self.fill = fills((self.left.0.rgb(), self.left.1), (p.0.rgb(), p.1), loose);
+                self.fill = fills(self.left, p, loose);
             }
         }
         match self.right {
@@ -533,7 +539,7 @@ mod tests {
                     continue;
                 }
                 let (l, r) = (row[l.unwrap() as usize], row[r as usize]);
-                if fills((l.0.rgb(), l.2), (r.0.rgb(), r.2), loose) {
+                if fills((l.0, l.2), (r.0, r.2), loose) {
                     let (c, class) = interpolate((l.0, l.2), (r.0, r.2), offset, period);
                     for i in 0..3 {
                         // The line between the anchors' own values, in levels, rounded
@@ -613,6 +619,36 @@ mod tests {
                 Rgb888::new(m(a.r(), b.r(), c.r()), m(a.g(), b.g(), c.g()), m(a.b(), b.b(), c.b()))
             );
         }
+    }
+
+    /// The strict rule fills between anchors without a checker exactly where
+    /// their own values are less than two levels apart on every channel
+    /// (9.4 and 10.6 fill, though their rounded levels 9 and 11 are two
+    /// apart); with a checker on either (not both far out of focus) only a
+    /// loose rung fills, less than its levels + 1 apart.
+    #[test]
+    fn anchors_fill_on_their_own_values() {
+        let f = |v: f64| Fine([(v * 256.0) as u16; 3]);
+        assert!(fills((f(9.4), 0), (f(10.6), 0), 0));
+        assert!(!fills((f(9.4), 0), (f(11.45), 0), 0));
+        let mut next = crate::test_rng::xorshift32(0xf111);
+        let (mut yes, mut no) = (0, 0);
+        for _ in 0..20_000 {
+            let a = random_fine(&mut next);
+            // Near a, within about three levels each way.
+            let b = Fine(a.0.map(|v| (v as i32 + (next() % 1536) as i32 - 768).clamp(0, 65280) as u16));
+            let apart = |most: u32| (0..3).all(|i| (a.0[i] as u32).abs_diff(b.0[i] as u32) < most);
+            let want = apart(2 * 256);
+            assert_eq!(fills((a, 0), (b, 0), 0), want, "{a:?} {b:?}");
+            assert!(!fills((a, TEXTURED), (b, 0), 0), "{a:?} {b:?}");
+            assert_eq!(fills((a, TEXTURED), (b, 2), 8), apart(9 * 256), "{a:?} {b:?}");
+            if want {
+                yes += 1;
+            } else {
+                no += 1;
+            }
+        }
+        assert!(yes > 1000 && no > 1000, "{yes} fill, {no} cast");
     }
 
     /// A gap between anchors a level apart takes the line between their own
