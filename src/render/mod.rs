@@ -973,20 +973,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// for the scanline filter (see [`scanline::Scanline`]; 0 where the
     /// renderer does not filter).
     fn pixel_far(&self, col: u32, row: u32) -> (scanline::Fine, u32, u8) {
-        let (c, n, _, far) = self.pixel_rays_within(col, row, self.cap);
-        (scanline::Fine([c.x.to_fine(), c.y.to_fine(), c.z.to_fine()]), n, far)
+        let (c, n, far, _) = self.pixel_far_wide(col, row);
+        (c, n, far)
     }
 
     /// [`Renderer::pixel_far`] and, with extension on, the powers of two at
     /// which its rays' range was wide (see [`Renderer::extends`]).
     fn pixel_far_wide(&self, col: u32, row: u32) -> (scanline::Fine, u32, u8, u32) {
         let (c, n, wide_at, far) = self.pixel_rays_within(col, row, self.cap);
-        (
-            scanline::Fine([c.x.to_fine(), c.y.to_fine(), c.z.to_fine()]),
-            n,
-            far,
-            wide_at,
-        )
+        (scanline::Fine::of(c), n, far, wide_at)
     }
 
     /// The first `cols` pixels (at most the image width) of row `row` as the
@@ -1257,8 +1252,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// to the scanline filter and gaps ([`scanline::Fine`]; its
     /// [`scanline::Fine::rgb`] is [`Renderer::pixel`]).
     pub fn pixel_fine(&self, col: u32, row: u32) -> scanline::Fine {
-        let c = self.pixel_colour(col, row);
-        scanline::Fine([c.x.to_fine(), c.y.to_fine(), c.z.to_fine()])
+        scanline::Fine::of(self.pixel_colour(col, row))
     }
 
     /// Fills `out` with row `row`, from column 0 (`out.len()` pixels at most

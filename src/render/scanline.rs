@@ -209,6 +209,12 @@ impl Fine {
     /// Black.
     pub const BLACK: Fine = Fine([0; 3]);
 
+    /// A mean colour's channels, each clamped to [0, 1].
+    #[inline]
+    pub fn of<S: Scalar>(c: Vec3<S>) -> Self {
+        Fine([c.x.to_fine(), c.y.to_fine(), c.z.to_fine()])
+    }
+
     /// The 8-bit colour, rounded: exactly `to_u8` of the channels it came from.
     #[inline]
     pub fn rgb(self) -> Rgb888 {
