@@ -63,6 +63,7 @@
 use crate::camera::sampler::Sampler;
 use crate::camera::{Camera, MAX_IMAGE_SIDE};
 use crate::render::cull::LensCones;
+use crate::render::cut::LensCut;
 use crate::render::defocus::Defocus;
 use crate::render::footprint::BrightFootprints;
 use crate::render::Renderer;
@@ -90,6 +91,7 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
         floor,
         budget256,
         rules,
+        cut,
     } = r;
     put_scene(scene, w);
     camera.put(w);
@@ -105,6 +107,7 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
     floor.put(w);
     budget256.put(w);
     rules.put(w);
+    cut.put(w);
 }
 
 fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
@@ -180,6 +183,7 @@ pub struct Baked<S: BakeScalar> {
     floor: u32,
     budget256: u32,
     rules: u32,
+    cut: LensCut,
     /// The cones and footprints were moved out by [`Baked::take_renderer`].
     taken: bool,
 }
@@ -202,6 +206,7 @@ impl<S: BakeScalar> Baked<S> {
             floor: 0,
             budget256: 0,
             rules: 0,
+            cut: LensCut::NONE,
             taken: false,
         }
     }
@@ -251,6 +256,7 @@ impl<S: BakeScalar> Baked<S> {
         self.floor = 0;
         self.budget256 = 0;
         self.rules = 0;
+        self.cut = LensCut::NONE;
     }
 
     fn load_checked(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
@@ -326,6 +332,7 @@ impl<S: BakeScalar> Baked<S> {
         self.floor.take(r);
         self.budget256.take(r);
         self.rules.take(r);
+        self.cut.take(r);
         if !r.ok() {
             return;
         }
@@ -368,6 +375,7 @@ impl<S: BakeScalar> Baked<S> {
             floor: self.floor,
             budget256: self.budget256,
             rules: self.rules,
+            cut: self.cut,
         }
     }
 
@@ -398,6 +406,7 @@ impl<S: BakeScalar> Baked<S> {
             floor: self.floor,
             budget256: self.budget256,
             rules: self.rules,
+            cut: self.cut,
         }
     }
 

@@ -144,7 +144,7 @@ fn main() {
             t.4 = t.4.min(margin);
         }
         println!(
-            "seed {seed:4} point {point:3}: independent {:6.2} dB, default {:6.2} dB ({margin:+.2}) at {:5.1} rays ({:5.1} %), lamps' footprints {:5.1} % of pixels, stratified at 40 % {:6.2} dB{} {}",
+            "seed {seed:4} point {point:3}: independent {:6.2} dB, default {:6.2} dB ({margin:+.2}) at {:5.1} rays ({:5.1} %), lamps' footprints {:5.1} % of pixels, stratified at 40 % {:6.2} dB{}{} {}",
             ind.psnr,
             def.psnr,
             def.rays,
@@ -152,6 +152,11 @@ fn main() {
             100.0 * risky,
             flat.psnr,
             before.map(|b| format!(", every sample {b:6.2} dB")).unwrap_or_default(),
+            // A part of the lens behind an object: most of the misses (BENCHMARKS.md).
+            Some(lensray_host::reference64::Scene64::parse(&text).lens_cut_by())
+                .filter(|c| !c.is_empty())
+                .map(|c| format!(", lens cut by objects {c:?}"))
+                .unwrap_or_default(),
             if !judge {
                 "(not judged: 40 % of `point` is under one ray)"
             } else if ok {

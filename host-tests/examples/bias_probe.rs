@@ -63,6 +63,8 @@ fn main() {
         ("default", Sampler::Stratified, true, point, true),
         ("default, no terminator filter", Sampler::Stratified, true, point, false),
         ("stratified point", Sampler::Stratified, false, point, true),
+        ("stratified 4", Sampler::Stratified, false, 4, true),
+        ("stratified 8", Sampler::Stratified, false, 8, true),
         ("stratified 16", Sampler::Stratified, false, 16, true),
         ("stratified 256", Sampler::Stratified, false, 256, true),
         ("independent point", Sampler::Independent, false, point, true),

@@ -438,6 +438,28 @@ impl Scene64 {
         }))
     }
 
+    /// The objects that cut the lens: those met by a segment from the lens's
+    /// centre to one of 64 points of its rim (none for a pinhole). Behind such
+    /// an object, a part of the lens sees something else for every pixel.
+    pub fn lens_cut_by(&self) -> Vec<usize> {
+        let c = &self.camera;
+        let mut cut = Vec::new();
+        let Some([u, v, _]) = basis(c).filter(|_| c.radius > 0.0) else {
+            return cut;
+        };
+        for k in 0..64 {
+            let th = k as f64 * core::f64::consts::TAU / 64.0;
+            let d = core::array::from_fn(|m| u[m] * th.cos() + v[m] * th.sin());
+            for (i, o) in self.objects.iter().enumerate() {
+                if !cut.contains(&i) && o.hit(c.lens_position, d, 0.0, c.radius).is_some() {
+                    cut.push(i);
+                }
+            }
+        }
+        cut.sort_unstable();
+        cut
+    }
+
     /// The nearest hit along `o + t d`.
     pub fn closest(&self, o: V, d: V, t_min: f64) -> Option<(usize, Hit64)> {
         let mut best: Option<(usize, Hit64)> = None;

@@ -9,6 +9,7 @@ use crate::camera::{Camera, CameraSample};
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
 use crate::render::cull::LensCones;
+use crate::render::cut::LensCut;
 use crate::render::defocus::Defocus;
 use crate::render::footprint::BrightFootprints;
 use crate::scene::Scene;
@@ -18,6 +19,7 @@ use embedded_graphics_core::pixelcolor::Rgb888;
 use embedded_graphics_core::primitives::Rectangle;
 
 pub mod cull;
+pub mod cut;
 pub mod defocus;
 pub mod footprint;
 pub mod progressive;
@@ -68,6 +70,9 @@ pub struct Renderer<'a, S: Scalar> {
     /// pilot at least (see [`Renderer::doubling`]); 17, below it with gaps:
     /// a pixel whose first rays are wide takes every sample (see [`Renderer::extends`]).
     pub(crate) rules: u32,
+    /// A plane that cuts the lens: rays from beyond it are weighed by their
+    /// side's share of the lens (see [`cut`]).
+    pub(crate) cut: LensCut,
 }
 
 /// The pilot of `point 48` to 95: one sample in each of 16 equal strata of
@@ -403,6 +408,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             floor: 0,
             budget256: 0,
             rules: 0,
+            cut: LensCut::new(scene, camera.aperture()),
         }
     }
 
@@ -1060,6 +1066,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // The pixel's own samples: independent of row order and threads.
         let mut lens = PixelSamples::new(self.sampler, col, row);
         let mut acc = [S::acc_zero(); 3];
+        // With a cut lens: the rays beyond the cut apart (their sum and count).
+        let cut = self.cut.is_cut();
+        let (mut acc_beyond, mut n_beyond) = ([S::acc_zero(); 3], 0u32);
         let mut stats = LevelStats::default();
         let adaptive = self.adaptive && self.samples >= ADAPTIVE_MIN_POINT;
         // Where a lamp may shine through part of the lens, a pilot at half the
@@ -1112,9 +1121,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let (mut lo, mut hi, mut wide_at) = ([u32::MAX; 3], [0u32; 3], 0u32);
         let mut textured = false;
         while n < limit {
+            let p_lens = lens.next(self.camera.aperture());
+            let beyond = cut && self.cut.beyond(p_lens);
             let ray = self.camera.generate_ray(&CameraSample {
                 film: &film,
-                lens: Some(lens.next(self.camera.aperture())),
+                lens: Some(p_lens),
             });
             // One call site for both samplers: two inlined copies of the trace
             // took 4 KiB more stack on the Cortex-M0.
@@ -1142,11 +1153,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     }
                 };
             }
-            acc = [
-                S::acc_add(acc[0], c.x),
-                S::acc_add(acc[1], c.y),
-                S::acc_add(acc[2], c.z),
+            let part = if beyond { &mut acc_beyond } else { &mut acc };
+            *part = [
+                S::acc_add(part[0], c.x),
+                S::acc_add(part[1], c.y),
+                S::acc_add(part[2], c.z),
             ];
+            n_beyond += beyond as u32;
             if adaptive {
                 stats.add(n, check, c);
             }
@@ -1194,7 +1207,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 stratum = self.defocus.stratum(check.min(full));
             }
         }
-        let colour = Vec3::new(S::acc_mean(acc[0], n), S::acc_mean(acc[1], n), S::acc_mean(acc[2], n));
+        // Each side of a cut by its share of the lens, where both have rays;
+        // else the plain mean of every ray (all on one side).
+        let colour = match self.cut.mean(&acc_beyond, n_beyond, &acc, n - n_beyond) {
+            Some(c) => c,
+            None => {
+                let all = if n_beyond == 0 { acc } else { acc_beyond };
+                Vec3::new(S::acc_mean(all[0], n), S::acc_mean(all[1], n), S::acc_mean(all[2], n))
+            }
+        };
         // A pixel that saw a lamp through part of the lens is on its bokeh's rim:
         // filtered only where every lamp it met is spread over its brightness
         // times the gate (the rim then changes no faster than an object's edge
@@ -1235,6 +1256,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         } else {
             own
         }
+    }
+
+    /// The plane that cuts this lens, if one does (see [`cut`]).
+    pub fn lens_cut(&self) -> &LensCut {
+        &self.cut
     }
 
     /// Pixel (`col`, `row`) as 8-bit RGB: each channel clamped and `round(255 v)`;
