@@ -21,8 +21,9 @@ fn main() {
         let by = s.lens_cut_by();
         if !by.is_empty() {
             cut += 1;
+            let shapes: Vec<_> = by.iter().map(|&i| s.objects[i].shape).collect();
             println!(
-                "seed {seed}: point {} radius {:.3} cut by objects {by:?}",
+                "seed {seed}: point {} radius {:.3} cut by objects {by:?} {shapes:?}",
                 s.camera.samples, s.camera.radius
             );
         }

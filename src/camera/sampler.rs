@@ -125,6 +125,20 @@ impl PixelSamples {
         }
     }
 
+    /// A lens point uniform over the part of `aperture` where `keep` holds,
+    /// drawn from the pixel's register (the independent sampler's draw) at
+    /// most `tries` times; `None` if no draw landed there. The sequence's
+    /// index is left as it is. (A lens cut by a plane: the part beyond it,
+    /// see [`crate::render::cut`].)
+    pub fn draw_where(
+        &mut self,
+        aperture: &Aperture,
+        tries: u32,
+        keep: impl Fn((i32, i32)) -> bool,
+    ) -> Option<(i32, i32)> {
+        (0..tries).map(|_| aperture.sample(&mut self.lfsr)).find(|&p| keep(p))
+    }
+
     /// The next lens point on `aperture`, Q1.15 (as [`Aperture::sample`]).
     #[inline]
     pub fn next(&mut self, aperture: &Aperture) -> (i32, i32) {

@@ -1091,6 +1091,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             self.samples
         };
         let pilot = check;
+        // The rays of a pixel's first block: its pilot, else all it takes.
+        let first_block = if adaptive { pilot } else { limit };
         let mut spread = 0;
         let mut n = 0;
         // Stratified rays stand for a stratum each: with adaptive sampling,
@@ -1121,8 +1123,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let (mut lo, mut hi, mut wide_at) = ([u32::MAX; 3], [0u32; 3], 0u32);
         let mut textured = false;
         while n < limit {
-            let p_lens = lens.next(self.camera.aperture());
-            let beyond = cut && self.cut.beyond(p_lens);
+            let mut p_lens = lens.next(self.camera.aperture());
+            let mut beyond = cut && self.cut.beyond(p_lens);
+            // The first block's last ray where none of it fell beyond a cut:
+            // one from beyond in its place, so that its side has a mean.
+            if cut && !beyond && n_beyond == 0 && n + 1 == first_block && first_block >= cut::FORCE_MIN_BLOCK {
+                if let Some(p) = lens.draw_where(self.camera.aperture(), cut::FORCE_TRIES, |p| self.cut.beyond(p)) {
+                    (p_lens, beyond) = (p, true);
+                }
+            }
             let ray = self.camera.generate_ray(&CameraSample {
                 film: &film,
                 lens: Some(p_lens),
