@@ -1127,9 +1127,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             let mut beyond = cut && self.cut.beyond(p_lens);
             // The first block's last ray where none of it fell beyond a cut:
             // one from beyond in its place, so that its side has a mean.
+            let mut forced = false;
             if cut && !beyond && n_beyond == 0 && n + 1 == first_block && first_block >= cut::FORCE_MIN_BLOCK {
                 if let Some(p) = lens.draw_where(self.camera.aperture(), cut::FORCE_TRIES, |p| self.cut.beyond(p)) {
-                    (p_lens, beyond) = (p, true);
+                    (p_lens, beyond, forced) = (p, true, true);
                 }
             }
             let ray = self.camera.generate_ray(&CameraSample {
@@ -1175,7 +1176,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             n += 1;
             if track {
                 let levels = [c.x.to_level(), c.y.to_level(), c.z.to_level()];
-                for i in 0..3 {
+                // A forced ray is from another part of the lens by design: no
+                // sign that the block's own rays disagree (seed 8919 took every
+                // sample on most pixels, 44.7 % of `point`).
+                for i in (0..3).filter(|_| !forced) {
                     lo[i] = lo[i].min(levels[i]);
                     hi[i] = hi[i].max(levels[i]);
                 }
