@@ -375,7 +375,7 @@ impl<S: BakeScalar> Baked<S> {
             floor: self.floor,
             budget256: self.budget256,
             rules: self.rules,
-            cut: self.cut,
+            cut: self.cut.clone(),
         }
     }
 
@@ -406,7 +406,7 @@ impl<S: BakeScalar> Baked<S> {
             floor: self.floor,
             budget256: self.budget256,
             rules: self.rules,
-            cut: self.cut,
+            cut: core::mem::replace(&mut self.cut, LensCut::NONE),
         }
     }
 

@@ -33,91 +33,156 @@ use crate::number::Scalar;
 use crate::scene::shape::Shape;
 use crate::scene::Scene;
 
-/// The line's normal in units of 2⁻¹⁴: `a x + b y + c` stays within i32 for
-/// any Q1.15 point (|a x| and |b y| under 2²⁹, |c| under 2²⁹ for a chord).
-#[cfg(not(feature = "no-lens-cut"))]
-const UNIT: f64 = 16384.0;
-
-/// Points of the sampler's sequence that measure the share beyond a chord
-/// (stratified: the share is off by a few 65536ths at most).
+/// Points of the sampler's sequence that measure the aperture's shares.
 const SHARE_POINTS: u32 = 65536;
 
+/// Bins of [`LensCut`]'s table of shares across the chord's direction.
+pub const SHARE_BINS: usize = 256;
+
+/// σ, the signed distance from the plane in 2⁻²⁹ of the lens's reach
+/// across it, spans (−2³⁰, 2³⁰) over the aperture (the centre within
+/// reach): each bin is 2²³ wide.
+const BIN_SHIFT: u32 = 23;
+const SIGMA_SPAN: i64 = 1 << 30;
+
 /// The fewest rays in a pixel's first block (its pilot, or all it takes)
-/// for its last ray to be drawn beyond the cut where none of the others
-/// fell there: with fewer, the lens's other side would lose too much of
-/// its stratification.
+/// for its last ray to be drawn in a part of the lens none of the others
+/// fell in: with fewer, the other parts would lose too much of their
+/// stratification.
 pub const FORCE_MIN_BLOCK: u32 = 4;
 
-/// Draws of the pixel's register that look for a point beyond the cut
-/// (a share f of the aperture: all miss with probability (1 − f)^128,
+/// The smallest share of the aperture (65536ths) a part must have for a
+/// ray to be drawn there: 1/256.
+pub const FORCE_MIN_SHARE: u32 = 256;
+
+/// Draws of the pixel's register that look for a point in a part of the
+/// lens (a share f of the aperture: all miss with probability (1 − f)^128,
 /// under 3 % from f = 1/36).
 pub const FORCE_TRIES: u32 = 128;
 
 /// The cut of a lens by a plane, as the renderer tests its rays against it.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+///
+/// A lens point L's ray to the pixel's point in focus P meets the plane
+/// where L and P lie on its two sides, or on one side with L the farther
+/// from it (the ray crosses after P): with D the signed distance from the
+/// plane, where D(L) is not between 0 and D(P). So two lines across the
+/// lens, D(L) = 0 (the chord) and D(L) = D(P) (the pixel's own, moving
+/// across the frame), split it into at most three parts, each of which
+/// sees its own side of the plane, or past it.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct LensCut {
-    /// A lens point (Q1.15) `(x, y)` is beyond the chord where
-    /// `line[0] x + line[1] y + line[2] > 0`.
+    /// σ(x, y) = `line[0] x + line[1] y + line[2]` for a lens point (Q1.15):
+    /// D(L) in 2⁻²⁹ of the lens's reach across the plane, positive beyond
+    /// the chord (the side away from the centre).
     #[cfg(not(feature = "no-lens-cut"))]
     line: [i32; 3],
-    /// The aperture's share beyond the chord, in 65536ths; 0: no cut.
+    /// σ of pixel (c, r)'s point in focus: `focus[0] + focus[1] (2c + 1) +
+    /// focus[2] (2r + 1)`, saturating.
     #[cfg(not(feature = "no-lens-cut"))]
-    share: u32,
+    focus: [i64; 3],
+    /// The aperture's share (65536ths) where σ is below bin i's lower
+    /// edge, −2³⁰ + i·2²³; all zero: no cut.
+    #[cfg(not(feature = "no-lens-cut"))]
+    table: [u32; SHARE_BINS + 1],
+}
+
+/// A pixel's parts of a cut lens: below both lines, between, above both.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct PixelCut {
+    /// The lines' σ, the lesser first.
+    bounds: [i32; 2],
+    /// Each part's share of the aperture, 65536ths.
+    shares: [u32; 3],
 }
 
 impl LensCut {
     /// No cut.
     #[cfg(not(feature = "no-lens-cut"))]
-    pub const NONE: LensCut = LensCut { line: [0; 3], share: 0 };
+    pub const NONE: LensCut = LensCut {
+        line: [0; 3],
+        focus: [0; 3],
+        table: [0; SHARE_BINS + 1],
+    };
     /// No cut (the only one without the weighing).
     #[cfg(feature = "no-lens-cut")]
     pub const NONE: LensCut = LensCut {};
 
     /// The cut of `scene`'s lens by its first plane that crosses the
-    /// aperture (both sides holding some of the sampler's points), for the
-    /// stratified sampler only (the independent one stays as it always was,
-    /// the measure the floors compare with). Set-up only, in f64.
+    /// aperture, at `cols` × `rows` pixels, for the stratified sampler only
+    /// (the independent one stays as it always was, the measure the floors
+    /// compare with). Set-up only, in f64.
     #[cfg(feature = "no-lens-cut")]
-    pub fn new<S: Scalar>(_scene: &Scene<S>, _aperture: &Aperture) -> Self {
+    pub fn new<S: Scalar>(_scene: &Scene<S>, _aperture: &Aperture, _cols: u32, _rows: u32) -> Self {
         Self::NONE
     }
 
     /// See above.
     #[cfg(not(feature = "no-lens-cut"))]
-    pub fn new<S: Scalar>(scene: &Scene<S>, aperture: &Aperture) -> Self {
+    pub fn new<S: Scalar>(scene: &Scene<S>, aperture: &Aperture, cols: u32, rows: u32) -> Self {
         let cam = &scene.camera;
-        if cam.sampler != Sampler::Stratified || cam.radius.is_nan() || cam.radius <= 0.0 {
+        if cam.sampler != Sampler::Stratified || cam.radius.is_nan() || cam.radius <= 0.0 || cols == 0 || rows == 0 {
             return Self::NONE;
         }
-        let Some([u, v, _]) = crate::camera::basis(cam) else {
+        let Some([u, v, n]) = crate::camera::basis(cam) else {
             return Self::NONE;
         };
         let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         for o in scene.objects.iter().filter(|o| o.shape == Shape::Plane) {
-            // The plane is z = 0 in object space: z(X) = row · X + z0 of world → object.
+            // The plane is z = 0 in object space: D(X) = row · X + z0 of world → object.
             let t = o.world_to_object();
             let row = [0, 1, 2].map(|j| t.entry(2, j).to_f64());
             let z0 = t.point_coord(2, Vec3::new(S::ZERO, S::ZERO, S::ZERO)).to_f64();
             // At the lens point E + r (x u + y v), x and y on the unit disc.
             let centre = dot(row, cam.lens_position) + z0;
             let (along_u, along_v) = (cam.radius * dot(row, u), cam.radius * dot(row, v));
-            let slope = libm::sqrt(along_u * along_u + along_v * along_v);
-            if !(slope > 0.0 && libm::fabs(centre) < slope) {
+            let reach = libm::sqrt(along_u * along_u + along_v * along_v);
+            if !(reach > 0.0 && libm::fabs(centre) < reach) {
                 continue;
             }
-            // Beyond: the side away from the centre; Q1.15 coordinates.
-            let k = if centre > 0.0 { -UNIT } else { UNIT } / slope;
+            // σ = k D: positive beyond the chord; x, y in Q1.15.
+            let k = if centre > 0.0 { -1.0 } else { 1.0 } * (1u64 << 29) as f64 / reach;
             let line = [
-                libm::round(k * along_u) as i32,
-                libm::round(k * along_v) as i32,
-                libm::round(k * centre * 32768.0) as i32,
+                libm::round(k * along_u / 32768.0) as i32,
+                libm::round(k * along_v / 32768.0) as i32,
+                libm::round(k * centre) as i32,
             ];
-            let mut cut = LensCut { line, share: 0 };
+            // D(P) = D(E) + (z_f/N) row · (−N n + u_c u + v_r v), with
+            // u_c = −W + (p/2)(2c + 1) and v_r = H − (p/2)(2r + 1).
+            let z_f = cam.focus_depth();
+            let focus = if z_f.is_finite() && z_f > 0.0 {
+                let m = z_f / cam.image_distance;
+                let half = cam.width / cols as f64 / 2.0;
+                let (w, h) = (cam.width / 2.0, half * rows as f64);
+                let (ru, rv) = (dot(row, u), dot(row, v));
+                let held = |x: f64, most: f64| libm::round(x.clamp(-most, most)) as i64;
+                [
+                    held(
+                        k * (centre - z_f * dot(row, n) + m * (-w * ru + h * rv)),
+                        (1u64 << 61) as f64,
+                    ),
+                    held(k * m * half * ru, (1u64 << 45) as f64),
+                    held(-k * m * half * rv, (1u64 << 45) as f64),
+                ]
+            } else {
+                // No plane in focus: the pixel's line lies off the lens.
+                [4 * SIGMA_SPAN, 0, 0]
+            };
+            let mut cut = LensCut {
+                line,
+                focus,
+                table: [0; SHARE_BINS + 1],
+            };
+            let mut counts = [0u32; SHARE_BINS];
             let mut points = PixelSamples::new(Sampler::Stratified, 0, 0);
-            cut.share = (0..SHARE_POINTS)
-                .map(|_| cut.beyond(points.next(aperture)) as u32)
-                .sum();
-            if cut.share > 0 && cut.share < SHARE_POINTS {
+            for _ in 0..SHARE_POINTS {
+                let bin = (cut.sigma(points.next(aperture)) as i64 + SIGMA_SPAN) >> BIN_SHIFT;
+                counts[bin.clamp(0, SHARE_BINS as i64 - 1) as usize] += 1;
+            }
+            for (i, count) in counts.iter().enumerate() {
+                cut.table[i + 1] = cut.table[i] + count;
+            }
+            let beyond = SHARE_POINTS - cut.below(0);
+            if beyond > 0 && beyond < SHARE_POINTS {
                 return cut;
             }
         }
@@ -127,71 +192,133 @@ impl LensCut {
     /// Whether this lens has a cut.
     #[inline]
     pub fn is_cut(&self) -> bool {
-        self.share() != 0
+        #[cfg(feature = "no-lens-cut")]
+        return false;
+        #[cfg(not(feature = "no-lens-cut"))]
+        (self.table[SHARE_BINS] != 0)
     }
 
     /// The aperture's share beyond the chord, in 65536ths (0: no cut).
-    #[inline]
     pub fn share(&self) -> u32 {
-        #[cfg(feature = "no-lens-cut")]
-        return 0;
-        #[cfg(not(feature = "no-lens-cut"))]
-        self.share
+        if self.is_cut() {
+            SHARE_POINTS - self.below(0)
+        } else {
+            0
+        }
     }
 
-    /// Whether the lens point `p_lens` (Q1.15) lies beyond the chord.
+    /// σ of the lens point `p_lens` (Q1.15).
     #[inline]
-    pub fn beyond(&self, p_lens: (i32, i32)) -> bool {
+    pub fn sigma(&self, p_lens: (i32, i32)) -> i32 {
         #[cfg(feature = "no-lens-cut")]
-        let [a, b, c] = [0, 0, (p_lens.0 & 0).wrapping_sub(1)];
+        let [a, b, c] = [0i32, 0, 0];
         #[cfg(not(feature = "no-lens-cut"))]
         let [a, b, c] = self.line;
         a.wrapping_mul(p_lens.0)
             .wrapping_add(b.wrapping_mul(p_lens.1))
             .wrapping_add(c)
-            > 0
     }
 
-    /// The pixel's colour from the sums of its `n_beyond` rays beyond the
-    /// chord and its `n_rest` others, each side weighed by its share of the
-    /// lens; `None` where a side has no ray (the plain mean stands).
+    /// Whether the lens point `p_lens` (Q1.15) lies beyond the chord.
     #[inline]
-    pub fn mean<S: Scalar>(
-        &self,
-        beyond: &[S::Acc; 3],
-        n_beyond: u32,
-        rest: &[S::Acc; 3],
-        n_rest: u32,
-    ) -> Option<Vec3<S>> {
-        if n_beyond == 0 || n_rest == 0 {
-            return None;
+    pub fn beyond(&self, p_lens: (i32, i32)) -> bool {
+        self.sigma(p_lens) > 0
+    }
+
+    /// The aperture's share (65536ths) where σ is at most `sigma`, from the
+    /// table (linear within a bin).
+    fn below(&self, sigma: i64) -> u32 {
+        #[cfg(feature = "no-lens-cut")]
+        return (sigma & 0) as u32;
+        #[cfg(not(feature = "no-lens-cut"))]
+        {
+            let t = (sigma + SIGMA_SPAN).clamp(0, 2 * SIGMA_SPAN - 1) as u64;
+            let (i, frac) = ((t >> BIN_SHIFT) as usize, t & ((1 << BIN_SHIFT) - 1));
+            let (lo, hi) = (self.table[i] as u64, self.table[i + 1] as u64);
+            (lo + (((hi - lo) * frac) >> BIN_SHIFT)) as u32
         }
-        // 65536ths to Q1.15, held under 1 whatever a baked file said.
-        let f = S::from_q15((self.share().min(SHARE_POINTS - 1) >> 1) as i32);
-        let g = S::ONE.sub(f);
-        let m = |i: usize| {
-            S::acc_mean(beyond[i], n_beyond)
-                .mul(f)
-                .add(S::acc_mean(rest[i], n_rest).mul(g))
-        };
-        Some(Vec3::new(m(0), m(1), m(2)))
+    }
+
+    /// Pixel (`col`, `row`)'s parts of the lens.
+    #[inline]
+    pub fn pixel(&self, col: u32, row: u32) -> PixelCut {
+        #[cfg(feature = "no-lens-cut")]
+        let [f0, f1, f2] = [0i64, 0, (col ^ row) as i64 & 0];
+        #[cfg(not(feature = "no-lens-cut"))]
+        let [f0, f1, f2] = self.focus;
+        let (i, j) = (2 * col.min(1 << 14) as i64 + 1, 2 * row.min(1 << 14) as i64 + 1);
+        let p = f0
+            .saturating_add(f1.saturating_mul(i))
+            .saturating_add(f2.saturating_mul(j))
+            .clamp(-2 * SIGMA_SPAN + 1, 2 * SIGMA_SPAN - 1);
+        let (lo, hi) = (p.min(0), p.max(0));
+        let (a, b) = (self.below(lo), self.below(hi));
+        PixelCut {
+            bounds: [lo as i32, hi as i32],
+            shares: [a, b - a, SHARE_POINTS - b],
+        }
     }
 }
 
-// No range check: any share reads as under 65536 (see [`LensCut::mean`]).
+impl PixelCut {
+    /// The part of the lens point whose σ is `sigma`: 0, 1 or 2.
+    #[inline]
+    pub fn part(&self, sigma: i32) -> usize {
+        (sigma > self.bounds[0]) as usize + (sigma > self.bounds[1]) as usize
+    }
+
+    /// The part of at least [`FORCE_MIN_SHARE`] of the lens with the largest
+    /// share among those `counts` says have no ray yet, if any.
+    #[inline]
+    pub fn starved(&self, counts: &[u32; 3]) -> Option<usize> {
+        (0..3)
+            .filter(|&k| counts[k] == 0 && self.shares[k] >= FORCE_MIN_SHARE)
+            .max_by_key(|&k| self.shares[k])
+    }
+
+    /// The pixel's colour from each part's sum and count of rays: each
+    /// part's mean weighed by its share of the lens, over the parts that
+    /// have rays (`n` rays in all, at least one).
+    #[inline]
+    pub fn mean<S: Scalar>(&self, sums: &[[S::Acc; 3]; 3], counts: &[u32; 3]) -> Vec3<S> {
+        let seen: u32 = (0..3).filter(|&k| counts[k] > 0).map(|k| self.shares[k]).sum();
+        let mut out = [S::ZERO; 3];
+        for k in (0..3).filter(|&k| counts[k] > 0) {
+            // Its share of the parts seen, Q1.15 (seen > 0: a part with rays has lens).
+            let w = S::from_q15(
+                ((self.shares[k] as u64) << 15)
+                    .checked_div(seen as u64)
+                    .unwrap_or(0)
+                    .min(32768) as i32,
+            );
+            for (c, o) in out.iter_mut().enumerate() {
+                *o = o.add(S::acc_mean(sums[k][c], counts[k]).mul(w));
+            }
+        }
+        Vec3::new(out[0], out[1], out[2])
+    }
+}
+
 #[cfg(not(feature = "no-lens-cut"))]
 impl crate::bytes::Field for LensCut {
-    crate::bytes::baked_fields!(LensCut { line, share });
+    crate::bytes::baked_fields!(LensCut { line, focus, table }, check(cut) {
+        // Shares that only grow, to 65536 or none at all.
+        let end = cut.table[SHARE_BINS];
+        if cut.table[0] != 0 || !(end == 0 || end == SHARE_POINTS) || cut.table.windows(2).any(|w| w[0] > w[1]) {
+            return Err(crate::bytes::BakeError::OutOfRange("lens cut shares not rising from 0 to 65536"));
+        }
+    });
 }
 
 /// Without the weighing the cut is read past (the format stays one).
 #[cfg(feature = "no-lens-cut")]
 impl crate::bytes::Field for LensCut {
     fn put(&self, w: &mut crate::bytes::Writer<'_>) {
-        [0i32; 4].put(w);
+        (([0i32; 3], [0i64; 3]), [0u32; SHARE_BINS + 1]).put(w);
     }
     fn take(&mut self, r: &mut crate::bytes::Reader<'_>) {
-        [0i32; 4].take(r);
+        let mut skip = (([0i32; 3], [0i64; 3]), [0u32; SHARE_BINS + 1]);
+        skip.take(r);
     }
     fn blank() -> Self {
         Self::NONE
@@ -203,7 +330,10 @@ mod tests {
     // Without the weighing there is no cut to test.
     #[cfg(not(feature = "no-lens-cut"))]
     mod weighed {
+        use crate::camera::aperture::Aperture;
+        use crate::camera::sampler::Sampler;
         use crate::render::cut::*;
+        use crate::Scene;
 
         fn scene(extra: &str) -> Scene<f32> {
             let text = format!("radius 1\npoint 16\nlook 0 0 -1\nup 0 1 0\n{extra}");
@@ -216,7 +346,7 @@ mod tests {
         fn a_floor_through_the_lens_cuts_the_segment_beyond_it() {
             for d in [-0.7, -0.2, 0.0, 0.3, 0.9] {
                 let s = scene(&format!("object plane\nrotate x -90\ntranslate 0 {d} 0\n"));
-                let cut = LensCut::new(&s, &Aperture::ROUND);
+                let cut = LensCut::new(&s, &Aperture::ROUND, 64, 48);
                 let ad = f64::abs(d);
                 let want = (libm::acos(ad) - ad * libm::sqrt(1.0 - ad * ad)) / core::f64::consts::PI;
                 let got = cut.share() as f64 / 65536.0;
@@ -237,33 +367,101 @@ mod tests {
                 "object plane\ntranslate 0 0 2\n",
                 "object sphere\nscale 3 3 3\n",
             ] {
-                assert!(!LensCut::new(&scene(extra), &Aperture::ROUND).is_cut(), "{extra}");
+                assert!(
+                    !LensCut::new(&scene(extra), &Aperture::ROUND, 64, 48).is_cut(),
+                    "{extra}"
+                );
             }
             // The independent sampler is left as it was.
             let mut s = scene("object plane\nrotate x -90\ntranslate 0 0.5 0\n");
-            assert!(LensCut::new(&s, &Aperture::ROUND).is_cut());
+            assert!(LensCut::new(&s, &Aperture::ROUND, 64, 48).is_cut());
             s.camera.sampler = Sampler::Independent;
-            assert!(!LensCut::new(&s, &Aperture::ROUND).is_cut());
+            assert!(!LensCut::new(&s, &Aperture::ROUND, 64, 48).is_cut());
         }
 
-        /// The weighed mean: each side's mean times its share.
+        /// The middle part is exactly the lens points whose ray to the
+        /// pixel's point in focus does not meet the plane (f64 geometry: a
+        /// tilted plane through the lens, a tilted camera, every 7th pixel).
         #[test]
-        fn each_side_weighs_its_share() {
-            let cut = LensCut {
-                line: [0, 1, 0],
-                share: 16384,
+        fn the_middle_part_is_where_rays_miss_the_plane() {
+            let text = "radius 0.8\npoint 16\nlook 0.2 -0.3 -1\nup 0 1 0\nfocal_length 3\nimage_distance 4\n\
+                        object plane\nrotate x -70\nrotate y 20\ntranslate 0 -0.3 0\n";
+            let s: Scene<f32> = Scene::parse(text).unwrap();
+            let (cols, rows) = (64, 48);
+            let cut = LensCut::new(&s, &Aperture::ROUND, cols, rows);
+            assert!(cut.is_cut());
+            let cam = &s.camera;
+            let [u, v, n] = crate::camera::basis(cam).unwrap();
+            // The plane in f64: the rotated z = 0 through (0, -0.3, 0).
+            let (rx, ry) = ((-70f64).to_radians(), 20f64.to_radians());
+            let normal = [ry.sin() * rx.cos(), -rx.sin(), ry.cos() * rx.cos()];
+            let dist = |p: [f64; 3]| normal[0] * p[0] + normal[1] * (p[1] + 0.3) + normal[2] * p[2];
+            let z_f = cam.focus_depth();
+            let pitch = cam.width / cols as f64;
+            let (mut checked, mut middle) = (0, 0);
+            for r in (0..rows).step_by(7) {
+                for c in (0..cols).step_by(7) {
+                    let (uc, vr) = (
+                        -cam.width / 2.0 + pitch * (c as f64 + 0.5),
+                        pitch * rows as f64 / 2.0 - pitch * (r as f64 + 0.5),
+                    );
+                    let dir: [f64; 3] = core::array::from_fn(|m| -cam.image_distance * n[m] + uc * u[m] + vr * v[m]);
+                    let p_focus: [f64; 3] = core::array::from_fn(|m| dir[m] * z_f / cam.image_distance);
+                    let q = cut.pixel(c, r);
+                    for k in 0..400 {
+                        let (x, y) = ((k % 20) as f64 / 10.0 - 0.95, (k / 20) as f64 / 10.0 - 0.95);
+                        if x * x + y * y > 0.99 {
+                            continue;
+                        }
+                        let p_lens: [f64; 3] = core::array::from_fn(|m| cam.radius * (x * u[m] + y * v[m]));
+                        let (dl, dp) = (dist(p_lens), dist(p_focus));
+                        // Clear of either line by a little (the plane is rounded to f32).
+                        if dl.abs() < 1e-3 || (dl - dp).abs() < 1e-3 {
+                            continue;
+                        }
+                        let misses = dl * (dp - dl) > 0.0;
+                        let sample = ((x * 32768.0) as i32, (y * 32768.0) as i32);
+                        assert_eq!(
+                            q.part(cut.sigma(sample)) == 1,
+                            misses,
+                            "pixel ({c}, {r}) lens ({x}, {y}): dl {dl} dp {dp} sigma {} {:?} {:?}",
+                            cut.sigma(sample),
+                            q,
+                            cut.line
+                        );
+                        checked += 1;
+                        middle += misses as u32;
+                    }
+                }
+            }
+            // Both kinds seen, many times.
+            assert!(
+                checked > 5000 && middle > 500 && checked - middle > 500,
+                "{checked} {middle}"
+            );
+        }
+
+        /// Each part's mean weighs its share of the parts that have rays.
+        #[test]
+        fn each_part_weighs_its_share() {
+            let q = PixelCut {
+                bounds: [0, 0],
+                shares: [16384, 0, 49152],
             };
-            let acc = |v: f64| [v; 3];
-            // Beyond: two rays of 1; the rest: six of 0.2. Plain mean 0.4; weighed 0.25 + 0.15.
-            let m = cut.mean::<f32>(&acc(2.0), 2, &acc(1.2), 6).unwrap();
-            assert!((m.x - 0.4).abs() < 1e-6 && (m.y - 0.4).abs() < 1e-6);
-            let cut = LensCut {
-                line: [0, 1, 0],
-                share: 6554,
+            let sums = [[2.0f64; 3], [0.0; 3], [1.2; 3]];
+            // Two rays of 1, six of 0.2: a quarter and three quarters of the lens.
+            let m = q.mean::<f32>(&sums, &[2, 0, 6]);
+            assert!((m.x - (0.25 + 0.75 * 0.2)).abs() < 1e-4, "{}", m.x);
+            let q = PixelCut {
+                bounds: [0, 0],
+                shares: [6554, 32768, 26214],
             };
-            let m = cut.mean::<f32>(&acc(2.0), 2, &acc(1.2), 6).unwrap();
-            assert!((m.x - (0.1 + 0.9 * 0.2)).abs() < 1e-4, "{}", m.x);
-            assert!(cut.mean::<f32>(&acc(0.0), 0, &acc(1.2), 6).is_none());
+            // The middle part unseen: the others by their shares of what is seen.
+            let m = q.mean::<f32>(&sums, &[2, 0, 6]);
+            let w = 6554.0 / (6554.0 + 26214.0);
+            assert!((m.x - (w + (1.0 - w) * 0.2)).abs() < 1e-4, "{}", m.x);
+            assert_eq!(q.starved(&[2, 0, 6]), Some(1));
+            assert_eq!(q.starved(&[2, 1, 6]), None);
         }
     }
 }

@@ -408,7 +408,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             floor: 0,
             budget256: 0,
             rules: 0,
-            cut: LensCut::new(scene, camera.aperture()),
+            cut: LensCut::new(scene, camera.aperture(), camera.cols(), camera.rows()),
         }
     }
 
@@ -1065,10 +1065,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         }
         // The pixel's own samples: independent of row order and threads.
         let mut lens = PixelSamples::new(self.sampler, col, row);
-        let mut acc = [S::acc_zero(); 3];
-        // With a cut lens: the rays beyond the cut apart (their sum and count).
+        // Sums and counts of the rays by part of the lens: one part but
+        // where a plane cuts the lens (see [`cut`]).
+        let mut sums = [[S::acc_zero(); 3]; 3];
+        let mut counts = [0u32; 3];
         let cut = self.cut.is_cut();
-        let (mut acc_beyond, mut n_beyond) = ([S::acc_zero(); 3], 0u32);
+        let parts = if cut { Some(self.cut.pixel(col, row)) } else { None };
         let mut stats = LevelStats::default();
         let adaptive = self.adaptive && self.samples >= ADAPTIVE_MIN_POINT;
         // Where a lamp may shine through part of the lens, a pilot at half the
@@ -1124,13 +1126,18 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut textured = false;
         while n < limit {
             let mut p_lens = lens.next(self.camera.aperture());
-            let mut beyond = cut && self.cut.beyond(p_lens);
-            // The first block's last ray where none of it fell beyond a cut:
-            // one from beyond in its place, so that its side has a mean.
+            let mut part = parts.map_or(0, |q| q.part(self.cut.sigma(p_lens)));
+            // The first block's last ray where a part of a cut lens has none
+            // of it: one from that part in its place, so that it has a mean.
             let mut forced = false;
-            if cut && !beyond && n_beyond == 0 && n + 1 == first_block && first_block >= cut::FORCE_MIN_BLOCK {
-                if let Some(p) = lens.draw_where(self.camera.aperture(), cut::FORCE_TRIES, |p| self.cut.beyond(p)) {
-                    (p_lens, beyond, forced) = (p, true, true);
+            if let Some(q) = parts.filter(|_| n + 1 == first_block && first_block >= cut::FORCE_MIN_BLOCK) {
+                let mut after = counts;
+                after[part] += 1;
+                if let Some(k) = q.starved(&after) {
+                    let keep = |p| q.part(self.cut.sigma(p)) == k;
+                    if let Some(p) = lens.draw_where(self.camera.aperture(), cut::FORCE_TRIES, keep) {
+                        (p_lens, part, forced) = (p, k, true);
+                    }
                 }
             }
             let ray = self.camera.generate_ray(&CameraSample {
@@ -1163,13 +1170,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     }
                 };
             }
-            let part = if beyond { &mut acc_beyond } else { &mut acc };
-            *part = [
-                S::acc_add(part[0], c.x),
-                S::acc_add(part[1], c.y),
-                S::acc_add(part[2], c.z),
+            let sum = &mut sums[part];
+            *sum = [
+                S::acc_add(sum[0], c.x),
+                S::acc_add(sum[1], c.y),
+                S::acc_add(sum[2], c.z),
             ];
-            n_beyond += beyond as u32;
+            counts[part] += 1;
             if adaptive {
                 stats.add(n, check, c);
             }
@@ -1220,14 +1227,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 stratum = self.defocus.stratum(check.min(full));
             }
         }
-        // Each side of a cut by its share of the lens, where both have rays;
-        // else the plain mean of every ray (all on one side).
-        let colour = match self.cut.mean(&acc_beyond, n_beyond, &acc, n - n_beyond) {
-            Some(c) => c,
-            None => {
-                let all = if n_beyond == 0 { acc } else { acc_beyond };
-                Vec3::new(S::acc_mean(all[0], n), S::acc_mean(all[1], n), S::acc_mean(all[2], n))
-            }
+        // Each part of a cut lens by its share; else the plain mean.
+        let colour = match parts {
+            Some(q) => q.mean(&sums, &counts),
+            None => Vec3::new(
+                S::acc_mean(sums[0][0], n),
+                S::acc_mean(sums[0][1], n),
+                S::acc_mean(sums[0][2], n),
+            ),
         };
         // A pixel that saw a lamp through part of the lens is on its bokeh's rim:
         // filtered only where every lamp it met is spread over its brightness
