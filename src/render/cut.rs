@@ -42,6 +42,7 @@ pub const SHARE_BINS: usize = 256;
 /// σ, the signed distance from the plane in 2⁻²⁹ of the lens's reach
 /// across it, spans (−2³⁰, 2³⁰) over the aperture (the centre within
 /// reach): each bin is 2²³ wide.
+#[cfg(not(feature = "no-lens-cut"))]
 const BIN_SHIFT: u32 = 23;
 const SIGMA_SPAN: i64 = 1 << 30;
 
@@ -229,7 +230,10 @@ impl LensCut {
     /// table (linear within a bin).
     fn below(&self, sigma: i64) -> u32 {
         #[cfg(feature = "no-lens-cut")]
-        return (sigma & 0) as u32;
+        return {
+            let _ = sigma;
+            0
+        };
         #[cfg(not(feature = "no-lens-cut"))]
         {
             let t = (sigma + SIGMA_SPAN).clamp(0, 2 * SIGMA_SPAN - 1) as u64;
@@ -243,7 +247,7 @@ impl LensCut {
     #[inline]
     pub fn pixel(&self, col: u32, row: u32) -> PixelCut {
         #[cfg(feature = "no-lens-cut")]
-        let [f0, f1, f2] = [0i64, 0, (col ^ row) as i64 & 0];
+        let [f0, f1, f2] = [0i64; 3];
         #[cfg(not(feature = "no-lens-cut"))]
         let [f0, f1, f2] = self.focus;
         let (i, j) = (2 * col.min(1 << 14) as i64 + 1, 2 * row.min(1 << 14) as i64 + 1);
@@ -310,20 +314,36 @@ impl crate::bytes::Field for LensCut {
     });
 }
 
-/// Without the weighing the cut is read past (the format stays one).
+/// Without the weighing the cut is read past (the format stays one): its
+/// bytes are 266 words (3 of the line, 6 of the focus's three i64, 257 of
+/// the table), read as such (one loop: the micro:bit's flash).
 #[cfg(feature = "no-lens-cut")]
 impl crate::bytes::Field for LensCut {
     fn put(&self, w: &mut crate::bytes::Writer<'_>) {
-        (([0i32; 3], [0i64; 3]), [0u32; SHARE_BINS + 1]).put(w);
+        for _ in 0..BAKED_WORDS {
+            0u32.put(w);
+        }
     }
     fn take(&mut self, r: &mut crate::bytes::Reader<'_>) {
-        let mut skip = (([0i32; 3], [0i64; 3]), [0u32; SHARE_BINS + 1]);
-        skip.take(r);
+        let mut word = 0u32;
+        for _ in 0..BAKED_WORDS {
+            word.take(r);
+        }
     }
     fn blank() -> Self {
         Self::NONE
     }
 }
+
+/// The words a baked cut takes (see the `Field` impls).
+const BAKED_WORDS: usize = 3 + 6 + SHARE_BINS + 1;
+#[cfg(not(feature = "no-lens-cut"))]
+const _: () = assert!(
+    BAKED_WORDS * 4
+        == core::mem::size_of::<[i32; 3]>()
+            + core::mem::size_of::<[i64; 3]>()
+            + core::mem::size_of::<[u32; SHARE_BINS + 1]>()
+);
 
 #[cfg(test)]
 mod tests {
