@@ -1,28 +1,33 @@
-//! A lens cut by a plane: the part of the aperture beyond the plane sees
-//! something else (the plane's far side, or what lies past it) for every
-//! pixel, and its share of a pixel's stratified rays is not its share of
-//! the lens.
+//! A lens cut by a plane: parts of the aperture see the plane's two sides,
+//! or past it, and a part's share of a pixel's stratified rays is not its
+//! share of the lens.
 //!
-//! A plane within the lens's radius of its centre crosses the lens's disc
-//! along a chord. Beyond the chord, a share f of the aperture (known at
-//! set-up) sees what the rest cannot. A pilot of P stratified rays puts 0,
-//! 1 or 2 of them there where fP is under 1, so the mean is off by about
-//! 255 f per ray too many or too few (seed 10123: a floor 0.48 below a lens
-//! of radius 1.16, tilted, f = 9 %: pixels at 8 rays 20 levels under or 36
-//! over). Weighing the rays beyond the chord by f and the others by 1 − f
-//! (post-stratification) takes that count out of the estimate; it changes
-//! nothing as the samples grow (both converge on the same mean).
+//! A plane within the lens's reach of its centre crosses the lens's disc
+//! along a chord. With D the signed distance from the plane, a lens point
+//! L's ray to the pixel's point in focus P meets the plane unless D(L) lies
+//! between 0 and D(P): two lines across the lens, the chord D(L) = 0 (the
+//! same for every pixel) and D(L) = D(P) (the pixel's own, within the lens
+//! near the plane's horizon on the film), cut it into at most three parts
+//! of shares known at set-up. A pilot of P stratified rays puts 0, 1 or 2
+//! of them in a part of share f where fP is under 1, so the mean is off by
+//! f times what the part sees, per ray too many or too few (seed 10123: a
+//! floor 0.48 below a tilted lens of radius 1.16, 9 % of it beyond: pixels
+//! at 8 rays 20 levels under or 36 over; seed 10014: a lamp plane through
+//! the lens, its horizon's pixels up to 150 levels off). Each part's mean
+//! weighed by its share (post-stratification) takes that count out of the
+//! estimate; it changes nothing as the samples grow (the same mean in the
+//! limit). A pixel whose first block of rays (its pilot, or every ray it
+//! takes, at least 4) leaves a part of 1/256 of the lens or more without a
+//! ray draws the block's last ray there instead (uniform over it, by
+//! rejection from the pixel's register), for no ray more; a part left
+//! without rays all the same drops out, the others weighed by their shares
+//! of what was seen.
 //!
-//! The chord is a line in the lens sampler's own Q1.15 coordinates, tested
-//! in integers (the same decision in Q16.16 and f32, on the boards too), and
-//! f is the share of 65536 of the sampler's own points beyond it.
-//!
-//! A pixel whose first block of rays (its pilot, or every ray it takes) has
-//! none beyond the chord would fall back on the plain mean, off by f times
-//! the difference (seed 10014: a lamp beyond the chord, 150 levels); its
-//! block's last ray is then drawn beyond the chord instead (uniform there,
-//! by rejection from the pixel's register), for no ray more: the other side
-//! keeps the block's other points.
+//! D is σ here, in the lens sampler's own Q1.15 coordinates, tested in
+//! integers (the same decision in Q16.16 and f32 but for the plane's own
+//! rounding to each type; on the boards too); the shares come from a table
+//! of 256 bins across the chord's direction, counted on 65536 of the
+//! sampler's own points.
 
 use crate::camera::aperture::Aperture;
 #[cfg(not(feature = "no-lens-cut"))]

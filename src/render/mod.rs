@@ -70,8 +70,8 @@ pub struct Renderer<'a, S: Scalar> {
     /// pilot at least (see [`Renderer::doubling`]); 17, below it with gaps:
     /// a pixel whose first rays are wide takes every sample (see [`Renderer::extends`]).
     pub(crate) rules: u32,
-    /// A plane that cuts the lens: rays from beyond it are weighed by their
-    /// side's share of the lens (see [`cut`]).
+    /// A plane that cuts the lens: a pixel's rays are weighed by their
+    /// part's share of the lens (see [`cut`]).
     pub(crate) cut: LensCut,
 }
 
