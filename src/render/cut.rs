@@ -26,7 +26,7 @@
 //! D is σ here, in the lens sampler's own Q1.15 coordinates, tested in
 //! integers (the same decision in Q16.16 and f32 but for the plane's own
 //! rounding to each type; on the boards too); the shares come from a table
-//! of 256 bins across the chord's direction, counted on 65536 of the
+//! of 64 bins across the chord's direction, counted on 65536 of the
 //! sampler's own points.
 
 use crate::camera::aperture::Aperture;
@@ -42,13 +42,15 @@ use crate::scene::Scene;
 const SHARE_POINTS: u32 = 65536;
 
 /// Bins of [`LensCut`]'s table of shares across the chord's direction.
-pub const SHARE_BINS: usize = 256;
+pub const SHARE_BINS: usize = 64;
 
 /// σ, the signed distance from the plane in 2⁻²⁹ of the lens's reach
 /// across it, spans (−2³⁰, 2³⁰) over the aperture (the centre within
-/// reach): each bin is 2²³ wide.
+/// reach): each bin is 2²⁵ wide (64: the share across a disc is smooth,
+/// linear within a bin to about 10⁻⁴; 256 bins cost the Cortex-M3 2 KB
+/// more stack, the renderer being moved and copied whole).
 #[cfg(not(feature = "no-lens-cut"))]
-const BIN_SHIFT: u32 = 23;
+const BIN_SHIFT: u32 = 25;
 const SIGMA_SPAN: i64 = 1 << 30;
 
 /// The fewest rays in a pixel's first block (its pilot, or all it takes)
@@ -87,7 +89,7 @@ pub struct LensCut {
     #[cfg(not(feature = "no-lens-cut"))]
     focus: [i64; 3],
     /// The aperture's share (65536ths) where σ is below bin i's lower
-    /// edge, −2³⁰ + i·2²³; all zero: no cut.
+    /// edge, −2³⁰ + i·2²⁵; all zero: no cut.
     #[cfg(not(feature = "no-lens-cut"))]
     table: [u32; SHARE_BINS + 1],
 }
@@ -320,7 +322,7 @@ impl crate::bytes::Field for LensCut {
 }
 
 /// Without the weighing the cut is read past (the format stays one): its
-/// bytes are 266 words (3 of the line, 6 of the focus's three i64, 257 of
+/// bytes are 74 words (3 of the line, 6 of the focus's three i64, 65 of
 /// the table), read as such (one loop: the micro:bit's flash).
 #[cfg(feature = "no-lens-cut")]
 impl crate::bytes::Field for LensCut {
