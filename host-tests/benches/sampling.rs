@@ -66,6 +66,8 @@ fn main() {
     let ref_n = env_u32("LENSRAY_SAMPLING_REFERENCE", 2048);
     let dir = std::env::var_os("LENSRAY_SAMPLING_SCENES").map_or(root.join("scenes"), PathBuf::from);
     let mut scenes = lens_scenes(&dir);
+    // Lens scenes kept out of the web page's presets (host-tests/extra-scenes/).
+    scenes.extend(lens_scenes(&root.join("host-tests/extra-scenes")));
     if let Some(extra) = std::env::var_os("LENSRAY_SAMPLING_EXTRA") {
         scenes.extend(lens_scenes(Path::new(&extra)));
     }

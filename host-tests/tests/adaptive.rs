@@ -28,7 +28,11 @@ fn scene_text(name: &str) -> String {
 /// The floors on one scene at `w`×`h`, against a stratified f32 reference of
 /// 2048 samples (cached under target/converged/).
 fn floors_hold(name: &str, w: u32, h: u32) {
-    let text = scene_text(name);
+    floors_hold_on(name, &scene_text(name), w, h);
+}
+
+fn floors_hold_on(name: &str, text: &str, w: u32, h: u32) {
+    let text = text.to_string();
     let point = Scene::<f32>::parse(&text).unwrap().camera.samples;
     let truth = reference(&text, w, h, 2048, Sampler::Stratified).unwrap();
     let independent = measure(&text, &truth, Setting::independent(point)).unwrap();
@@ -54,6 +58,18 @@ fn floors_hold(name: &str, w: u32, h: u32) {
         "{name}: {:.1} rays a pixel",
         default.rays
     );
+}
+
+/// A camera resting on a floor that cuts its lens (host-tests/extra-scenes/):
+/// both floors, the lens's parts weighed (`src/render/cut.rs`).
+#[test]
+fn a_camera_on_the_floor_meets_both_floors() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("extra-scenes/camera-on-the-floor.scene");
+    let text = std::fs::read_to_string(path).unwrap();
+    assert!(Renderer::new(&Scene::<I16F16>::parse(&text).unwrap(), 96, 72)
+        .lens_cut()
+        .is_cut());
+    floors_hold_on("camera-on-the-floor.scene", &text, 96, 72);
 }
 
 #[test]
