@@ -138,8 +138,12 @@ impl LensCut {
         for o in scene.objects.iter().filter(|o| o.shape == Shape::Plane) {
             // The plane is z = 0 in object space: D(X) = row · X + z0 of world → object.
             let t = o.world_to_object();
-            let row = [0, 1, 2].map(|j| t.entry(2, j).to_f64());
-            let z0 = t.point_coord(2, Vec3::new(S::ZERO, S::ZERO, S::ZERO)).to_f64();
+            // On Q16.16's grid, 2⁻¹⁶, whatever the type: Q16.16 and f32 then take
+            // the same plane (but where the exact value lies within f32's
+            // rounding of a half step) and so make the same decisions.
+            let grid = |x: S| libm::round(x.to_f64() * 65536.0) / 65536.0;
+            let row = [0, 1, 2].map(|j| grid(t.entry(2, j)));
+            let z0 = grid(t.point_coord(2, Vec3::new(S::ZERO, S::ZERO, S::ZERO)));
             // At the lens point E + r (x u + y v), x and y on the unit disc.
             let centre = dot(row, cam.lens_position) + z0;
             let (along_u, along_v) = (cam.radius * dot(row, u), cam.radius * dot(row, v));
