@@ -24,8 +24,8 @@
 //! of what was seen.
 //!
 //! D is σ here, in the lens sampler's own Q1.15 coordinates, tested in
-//! integers (the same decision in Q16.16 and f32 but for the plane's own
-//! rounding to each type; on the boards too); the shares come from a table
+//! integers from the plane taken on Q16.16's grid in both types (the same
+//! decisions in Q16.16 and f32, and on the boards); the shares come from a table
 //! of 64 bins across the chord's direction, counted on 65536 of the
 //! sampler's own points.
 
