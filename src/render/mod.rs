@@ -1069,8 +1069,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // where a plane cuts the lens (see [`cut`]).
         let mut sums = [[S::acc_zero(); 3]; 3];
         let mut counts = [0u32; 3];
-        let cut = self.cut.is_cut();
-        let parts = if cut { Some(self.cut.pixel(col, row)) } else { None };
+        let parts = self.cut.is_cut().then(|| self.cut.pixel(col, row));
         let mut stats = LevelStats::default();
         let adaptive = self.adaptive && self.samples >= ADAPTIVE_MIN_POINT;
         // Where a lamp may shine through part of the lens, a pilot at half the
