@@ -937,6 +937,23 @@ fn a_pixels_own_line_across_a_cut_lens_splits_off_what_meets_the_plane() {
     beats_independent_samples(10014, 160, [45, 45], 2.0, |r, _| assert!(r.lens_cut().is_cut()));
 }
 
+/// A light's terminator box-filtered over a lens ray's footprint on a
+/// curved surface (`src/render/trace.rs`, `lit_share`): n·l's rate across
+/// the footprint from the shape operator, and only the part still facing
+/// the ray. Seed 10410 (`point` 22): a cone two units from the lens, lit
+/// from behind, whose footprints run past its silhouette onto the lit back:
+/// -7.8 dB against 22 independent samples at 160x120 with a band of the
+/// footprint times the largest curvature. Seed 10608 (`point` 17): a
+/// squashed sphere, whose curvature that band took for the largest
+/// everywhere: -1.5 dB. Seed 9133 (`point` 57), the filter's first frame,
+/// a bright strip across every pixel's lens: +1.1 dB.
+#[test]
+fn a_terminator_is_filtered_over_the_footprints_facing_part() {
+    beats_independent_samples(10410, 160, [22, 22], 4.0, |_, _| {});
+    beats_independent_samples(10608, 160, [17, 17], 4.0, |_, _| {});
+    beats_independent_samples(9133, 160, [57, 57], 1.5, |_, _| {});
+}
+
 fn beats_independent_samples(
     seed: u64,
     width: u32,

@@ -149,11 +149,7 @@ pub struct Object<S: Scalar> {
     bound: Option<(Vec3<S>, S)>,
     /// What the shape needs per hit, computed once. The plane: its world
     /// unit normal, the same for every hit, exactly as [`Object::normal`]
-    /// would compute it per hit. A curved shape (sphere, cylinder, cone): in
-    /// `x` its stretch, the longest row of world → object's linear part
-    /// (each rounded to `S`), the most object-space length a world length
-    /// can take, for [`Object::normal_spread`]. Zero otherwise. One slot for
-    /// both: a field more cost the micro:bit's flash 28 bytes.
+    /// would compute it per hit. Zero otherwise.
     per_shape: Vec3<S>,
 }
 
@@ -236,14 +232,7 @@ impl<S: Scalar> Object<S> {
         });
         let per_shape = match desc.shape {
             Shape::Plane => normal_to_world.vector_unit(Vec3::new(S::ZERO, S::ZERO, S::ONE)).0,
-            Shape::Cube => Vec3::ZERO,
-            Shape::Sphere | Shape::Cylinder | Shape::Cone => Vec3::new(
-                (0..3)
-                    .map(|k| S::length3(core::array::from_fn(|j| to_object.entry(k, j))))
-                    .fold(S::ZERO, S::max),
-                S::ZERO,
-                S::ZERO,
-            ),
+            _ => Vec3::ZERO,
         };
         Some(Object {
             shape: desc.shape,
@@ -565,17 +554,26 @@ impl<S: Scalar> Object<S> {
     /// [`Object::normal`], and whether it is the outward normal (the ray
     /// came from outside the object) rather than its opposite.
     pub fn facing_normal(&self, hit: &Hit<S>, d: Vec3<S>) -> (Vec3<S>, bool) {
+        let (n, outside, _) = self.facing_normal_len(hit, d);
+        (n, outside)
+    }
+
+    /// [`Object::facing_normal`], and |N n| of the object-space normal n
+    /// (N: normal to world; 0 on the plane), for
+    /// [`Object::footprint_gradient`].
+    pub fn facing_normal_len(&self, hit: &Hit<S>, d: Vec3<S>) -> (Vec3<S>, bool, S) {
         // From the exact product: a large object's inverse transpose has entries of
         // 1/500, which rounded first would leave the normal a few bits.
-        let n = if self.shape == Shape::Plane {
-            self.per_shape
+        let (n, len) = if self.shape == Shape::Plane {
+            (self.per_shape, S::ZERO)
         } else {
-            self.normal_to_world.vector_unit(hit.local.n).0
+            let (n, len, _) = self.normal_to_world.vector_unit(hit.local.n);
+            (n, len)
         };
         if n.dot_inline(d) > S::ZERO {
-            (-n, false)
+            (-n, false, len)
         } else {
-            (n, true)
+            (n, true, len)
         }
     }
 
@@ -678,35 +676,37 @@ impl<S: Scalar> Object<S> {
         self.exact_t(hit, o, &S::dir_from(d.to_array()))
     }
 
-    /// How far the unit normal turns across a lens ray's footprint of radius
-    /// `w` world units at `hit`: the object-space footprint (`w` times the
-    /// object's stretch, the longest row of world → object, computed at
-    /// set-up) times the surface's curvature there (1 on the unit sphere and
-    /// cylinder side, about 1/r at radius r on the cone's side; 0 on flat
-    /// faces and the plane), at most 1. The half-width of the band of n·l
-    /// over which a light's terminator step is box-filtered. `S`'s own
-    /// arithmetic only (no `f64`): it runs per hit.
-    pub fn normal_spread(&self, hit: &Hit<S>, w: S) -> S {
+    /// Whether the surface is curved at `hit` (the sphere, the cylinder's and
+    /// the cone's side), where [`Object::footprint_gradient`] applies.
+    pub fn curved_at(&self, hit: &Hit<S>) -> bool {
         let n = hit.local.n;
-        let curved = match self.shape {
+        match self.shape {
             Shape::Sphere => true,
             // The caps are flat.
             Shape::Cylinder | Shape::Cone => !(n.x == S::ZERO && n.z == S::ZERO),
             Shape::Plane | Shape::Cube => false,
-        };
-        if !curved || w <= S::ZERO {
-            return S::ZERO;
         }
-        // The stretch (set-up).
-        let e = w.mul(self.per_shape.x);
-        let e = if self.shape == Shape::Cone {
-            let p = hit.local.p;
-            // 1/r, r held to at least 1/16 (the apex).
-            e.div(S::length3([p.x, S::ZERO, p.z]).max(S::from_q15(2048)))
-        } else {
-            e
+    }
+
+    /// How fast n·v changes across a lens ray's footprint at a curved hit
+    /// (`inv_len` 1/|N n| from [`Object::facing_normal_len`], `n` that unit world
+    /// normal, `slant` 1/n·d for the unit ray `d`): the vector c such that an
+    /// offset y across the ray (y·d = 0), carried along the ray onto the
+    /// surface, changes n·v by c·y to first order. The shape operator in
+    /// world terms, g = N Q M⁻¹ (v − (n·v) n) / |N n| (Q the object-space
+    /// normal's derivative: identity on the sphere, (1, 0, 1) on the
+    /// cylinder, (1, −1/4, 1) on the cone; M⁻¹ world → object, N its
+    /// transpose), then the slant: c = g − n (g·d)/(n·d), so c·d = 0. `S`'s
+    /// own arithmetic; per ray.
+    pub fn footprint_gradient(&self, inv_len: S, n: Vec3<S>, d: Vec3<S>, slant: S, v: Vec3<S>) -> Vec3<S> {
+        let q = self.to_object.vector(v - n.scale(n.dot_inline(v)));
+        let q = match self.shape {
+            Shape::Cylinder => Vec3::new(q.x, S::ZERO, q.z),
+            Shape::Cone => Vec3::new(q.x, q.y.mul(S::from_q15(-8192)), q.z),
+            _ => q,
         };
-        e.min(S::ONE)
+        let g = self.normal_to_world.vector(q).scale(inv_len);
+        g - n.scale(g.dot_inline(d).mul(slant))
     }
 
     /// The checker's darkening (1 on a light square, 1/4 on a dark one)
@@ -924,7 +924,7 @@ impl<S: Scalar> Scene<S> {
 
     /// Whether a stratified lens ray's specular steps to 0 at a light's
     /// terminator (n·l = 0) box-filtered over the band of n·l its footprint
-    /// spans on a curved surface ([`Object::normal_spread`]) rather than
+    /// spans on a curved surface ([`Object::footprint_gradient`]) rather than
     /// sharply. On by default; off, the step is sharp, as a build with the
     /// feature `no-terminator-filter` (the micro:bit's) always has it. For
     /// the host to render as the micro:bit does (its firmware test).
@@ -1053,41 +1053,120 @@ mod tests {
     /// The footprint's turn of the normal: the set-up stretch (world →
     /// object's longest row) times the footprint, 1/r on the cone's side,
     /// none on flat faces, at most 1; the plane keeps its normal.
+    /// [`Object::footprint_gradient`] against central differences: rays
+    /// beside the hit, parallel to it, meet the surface where n·v has
+    /// changed by c·y. Random spheres, cylinders and cones under random
+    /// rotations and unequal scales; Q16.16 against f32.
     #[test]
-    fn normal_spread_from_the_set_up_stretch() {
-        fn spread<S: Scalar>(shape: Shape, m: Mat34, o: [f64; 3], d: [f64; 3], w: f64) -> f64 {
-            let obj = object::<S>(shape, m);
-            let (o, d) = (Vec3::<S>::from_f64(o), Vec3::<S>::from_f64(d).normalize());
-            let h = obj.intersect(o, d, S::HIT_EPSILON, S::MAX).unwrap();
-            obj.normal_spread(&h, S::from_f64(w)).to_f64()
-        }
-        fn each(shape: Shape, m: Mat34, o: [f64; 3], d: [f64; 3], w: f64, want: f64) {
-            let (a, b) = (spread::<f32>(shape, m, o, d, w), spread::<I16F16>(shape, m, o, d, w));
+    fn footprint_gradient_is_the_change_of_n_dot_v() {
+        let mut u = crate::test_rng::unit_f64(0x5eed_7e12);
+        let unit = |v: [f64; 3]| {
+            let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            [v[0] / l, v[1] / l, v[2] / l]
+        };
+        let cross = |a: [f64; 3], b: [f64; 3]| {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
+        };
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let (mut checked, mut fixed_checked) = (0, 0);
+        for case in 0..3000 {
+            let shape = [Shape::Sphere, Shape::Cylinder, Shape::Cone][case % 3];
+            let scale = [0.3 + 2.7 * u(), 0.3 + 2.7 * u(), 0.3 + 2.7 * u()];
+            let m = Mat34::translate([u() - 0.5, u() - 0.5, -10.0])
+                .after(&Mat34::rotate(0, 360.0 * u()))
+                .after(&Mat34::rotate(1, 360.0 * u()))
+                .after(&Mat34::scale(scale));
+            let d = unit([0.12 * (u() - 0.5), 0.12 * (u() - 0.5), -1.0]);
+            let v = unit([u() - 0.5, u() - 0.5, u() - 0.5]);
+            let obj = object::<f32>(shape, m);
+            let at = |o: [f64; 3]| {
+                let h = obj.intersect(Vec3::from_f64(o), Vec3::from_f64(d), 1e-3, f32::MAX)?;
+                Some((h, obj.normal(&h, Vec3::from_f64(d)).to_f64()))
+            };
+            let Some((h, n)) = at([0.0; 3]) else { continue };
+            if !obj.curved_at(&h) {
+                continue;
+            }
+            let slant_of = |n: [f64; 3]| 1.0 / dot(n, d).min(-1.0 / 16.0);
+            // Off grazing and the cone's apex (f32's normal is noisy within
+            // r = 1/4 of it), where the first order holds over the step.
+            if dot(n, d) > -0.3 || (shape == Shape::Cone && h.local.p.y > 0.5) {
+                continue;
+            }
+            let y1 = unit(cross(d, [0.0, 1.0, 0.0]));
+            let y2 = cross(d, y1);
+            let (nf, df, vf) = (Vec3::<f32>::from_f64(n), Vec3::from_f64(d), Vec3::from_f64(v));
+            let inv = 1.0 / obj.facing_normal_len(&h, df).2;
+            let c = obj
+                .footprint_gradient(inv, nf, df, f32::from_f64(slant_of(n)), vf)
+                .to_f64();
+            let eps = 2e-3;
+            let mut ok = true;
+            for y in [y1, y2] {
+                let off = |s: f64| at([s * eps * y[0], s * eps * y[1], s * eps * y[2]]);
+                let (Some((_, np)), Some((_, nm))) = (off(1.0), off(-1.0)) else {
+                    ok = false;
+                    break;
+                };
+                // Both beside rays on the same smooth part (not a cap or past a rim).
+                if dot(np, n) < 0.9 || dot(nm, n) < 0.9 {
+                    ok = false;
+                    break;
+                }
+                let numeric = (dot(np, v) - dot(nm, v)) / (2.0 * eps);
+                let want = dot(c, y);
+                assert!(
+                    (numeric - want).abs() < 0.02 * (1.0 + numeric.abs()),
+                    "case {case} {shape:?}: c·y {want}, central difference {numeric}"
+                );
+            }
+            if !ok {
+                continue;
+            }
+            checked += 1;
+            // Q16.16's c from its own hit of the same ray.
+            let objq = object::<I16F16>(shape, m);
+            let Some(hq) = objq.intersect(Vec3::ZERO, Vec3::from_f64(d), I16F16::HIT_EPSILON, I16F16::MAX) else {
+                continue;
+            };
+            let (nq, _, len) = objq.facing_normal_len(&hq, Vec3::from_f64(d));
+            let inv = I16F16::ONE.div(len);
+            let slant = I16F16::from_f64(slant_of(nq.to_f64()));
+            let cq = objq
+                .footprint_gradient(inv, nq, Vec3::from_f64(d), slant, Vec3::from_f64(v))
+                .to_f64();
+            let size = dot(c, c).sqrt();
             assert!(
-                (a - want).abs() < 1e-3 && (b - want).abs() < 1e-3,
-                "{shape:?}: {a} {b}, not {want}"
+                (0..3).all(|k| (cq[k] - c[k]).abs() < 0.01 * (1.0 + size)),
+                "case {case} {shape:?}: Q16.16 {cq:?}, f32 {c:?}"
             );
+            fixed_checked += 1;
         }
-        let down = [0.0, 0.0, -1.0];
-        // Scaled by (2, 4, 1): world → object's longest row is 1 (z).
-        let m = Mat34::translate([0.0, 0.0, -10.0]).after(&Mat34::scale([2.0, 4.0, 1.0]));
-        each(Shape::Sphere, m, [0.0; 3], down, 0.01, 0.01);
-        // Scaled by 0.5: a world length is twice as long in object space; at most 1.
-        let m = Mat34::translate([0.0, 0.0, -10.0]).after(&Mat34::scale([0.5; 3]));
-        each(Shape::Sphere, m, [0.0; 3], down, 0.01, 0.02);
-        each(Shape::Sphere, m, [0.0; 3], down, 1.0, 1.0);
-        // The cylinder's side, and its cap (flat) seen down its axis.
+        assert!(checked > 1000 && fixed_checked > 1000, "{checked} {fixed_checked}");
+    }
+
+    #[test]
+    fn flat_surfaces_are_not_curved() {
         let m = Mat34::translate([0.0, 0.0, -10.0]);
-        each(Shape::Cylinder, m, [0.0; 3], down, 0.01, 0.01);
-        let up = Mat34::translate([0.0, 0.0, -10.0]).after(&Mat34::rotate(0, 90.0));
-        each(Shape::Cylinder, up, [0.0; 3], down, 0.01, 0.0);
-        // The cone's side at height 0 (radius 1/2): 1/r = 2.
-        each(Shape::Cone, m, [0.0; 3], down, 0.01, 0.02);
-        // Flat shapes never turn.
-        each(Shape::Cube, m, [0.0; 3], down, 0.01, 0.0);
-        each(Shape::Plane, m, [0.0; 3], down, 0.01, 0.0);
+        let down = Vec3::<f32>::from_f64([0.0, 0.0, -1.0]);
+        for (shape, m, curved) in [
+            (Shape::Cube, m, false),
+            (Shape::Plane, m, false),
+            (Shape::Sphere, m, true),
+            (Shape::Cylinder, m, true),
+            // The cylinder's cap, seen down its axis.
+            (Shape::Cylinder, m.after(&Mat34::rotate(0, 90.0)), false),
+        ] {
+            let obj = object::<f32>(shape, m);
+            let h = obj.intersect(Vec3::ZERO, down, 1e-3, f32::MAX).unwrap();
+            assert_eq!(obj.curved_at(&h), curved, "{shape:?}");
+        }
         // The plane's slot still holds its normal.
-        let (_, n) = both(Shape::Plane, m, [0.0; 3], down).unwrap();
+        let (_, n) = both(Shape::Plane, m, [0.0; 3], [0.0, 0.0, -1.0]).unwrap();
         assert!(close(n, [0.0, 0.0, 1.0]), "{n:?}");
     }
 
