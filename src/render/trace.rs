@@ -277,11 +277,13 @@ impl<S: Scalar> Scene<S> {
         // checker's). None without a footprint, on flat faces, or with the
         // filter off (always with the feature `no-terminator-filter`: then
         // the lights' loop is the sharp step's).
-        let n_dot_d = n.dot_inline(d);
         let turn = match footprint {
-            Some((defocus, stratum)) if stratum > S::ZERO && self.terminator_filtered() && obj.curved_at(&hit) => {
-                let slant = S::ONE.div(n_dot_d.min(S::from_q15(-2048)));
-                Some((defocus.width(d, hit.t, stratum), S::ONE.div(n_len), slant))
+            Some((defocus, stratum)) if stratum > S::ZERO && self.terminator_filtered() => {
+                obj.curved_at(&hit, n_len).map(|inv_len| {
+                    let n_dot_d = n.dot_inline(d);
+                    let slant = S::ONE.div(n_dot_d.min(S::from_q15(-2048)));
+                    (defocus.width(d, hit.t, stratum), inv_len, slant, n_dot_d)
+                })
             }
             _ => None,
         };
@@ -311,7 +313,7 @@ impl<S: Scalar> Scene<S> {
             let n_dot_l = n.dot_inline(l);
             // Within the footprint's band of the terminator: its lit share,
             // the step at n·l = 0 box-filtered.
-            let lit = turn.and_then(|(w, inv_len, slant)| {
+            let lit = turn.and_then(|(w, inv_len, slant, n_dot_d)| {
                 // n·l runs n·l ± |c_l| w across the footprint: filtered only
                 // where that band holds the terminator (n·d's rate then too).
                 let c_l = obj.footprint_gradient(inv_len, n, d, slant, l).scale(w);

@@ -559,8 +559,7 @@ impl<S: Scalar> Object<S> {
     }
 
     /// [`Object::facing_normal`], and |N n| of the object-space normal n
-    /// (N: normal to world; 0 on the plane), for
-    /// [`Object::footprint_gradient`].
+    /// (N: normal to world; 0 on the plane), for [`Object::curved_at`].
     pub fn facing_normal_len(&self, hit: &Hit<S>, d: Vec3<S>) -> (Vec3<S>, bool, S) {
         // From the exact product: a large object's inverse transpose has entries of
         // 1/500, which rounded first would leave the normal a few bits.
@@ -676,20 +675,22 @@ impl<S: Scalar> Object<S> {
         self.exact_t(hit, o, &S::dir_from(d.to_array()))
     }
 
-    /// Whether the surface is curved at `hit` (the sphere, the cylinder's and
-    /// the cone's side), where [`Object::footprint_gradient`] applies.
-    pub fn curved_at(&self, hit: &Hit<S>) -> bool {
+    /// 1/|N n| (`n_len` from [`Object::facing_normal_len`]) where the
+    /// surface is curved at `hit` (the sphere, the cylinder's and the cone's
+    /// side), for [`Object::footprint_gradient`]; `None` where it is flat.
+    pub fn curved_at(&self, hit: &Hit<S>, n_len: S) -> Option<S> {
         let n = hit.local.n;
-        match self.shape {
+        let curved = match self.shape {
             Shape::Sphere => true,
             // The caps are flat.
             Shape::Cylinder | Shape::Cone => !(n.x == S::ZERO && n.z == S::ZERO),
             Shape::Plane | Shape::Cube => false,
-        }
+        };
+        (curved && n_len > S::ZERO).then(|| S::ONE.div(n_len))
     }
 
     /// How fast n·v changes across a lens ray's footprint at a curved hit
-    /// (`inv_len` 1/|N n| from [`Object::facing_normal_len`], `n` that unit world
+    /// (`inv_len` from [`Object::curved_at`], `n` that unit world
     /// normal, `slant` 1/n·d for the unit ray `d`): the vector c such that an
     /// offset y across the ray (y·d = 0), carried along the ray onto the
     /// surface, changes n·v by c·y to first order. The shape operator in
@@ -1088,9 +1089,9 @@ mod tests {
                 Some((h, obj.normal(&h, Vec3::from_f64(d)).to_f64()))
             };
             let Some((h, n)) = at([0.0; 3]) else { continue };
-            if !obj.curved_at(&h) {
+            let Some(inv) = obj.curved_at(&h, obj.facing_normal_len(&h, Vec3::from_f64(d)).2) else {
                 continue;
-            }
+            };
             let slant_of = |n: [f64; 3]| 1.0 / dot(n, d).min(-1.0 / 16.0);
             // Off grazing and the cone's apex (f32's normal is noisy within
             // r = 1/4 of it), where the first order holds over the step.
@@ -1100,7 +1101,6 @@ mod tests {
             let y1 = unit(cross(d, [0.0, 1.0, 0.0]));
             let y2 = cross(d, y1);
             let (nf, df, vf) = (Vec3::<f32>::from_f64(n), Vec3::from_f64(d), Vec3::from_f64(v));
-            let inv = 1.0 / obj.facing_normal_len(&h, df).2;
             let c = obj
                 .footprint_gradient(inv, nf, df, f32::from_f64(slant_of(n)), vf)
                 .to_f64();
@@ -1134,7 +1134,7 @@ mod tests {
                 continue;
             };
             let (nq, _, len) = objq.facing_normal_len(&hq, Vec3::from_f64(d));
-            let inv = I16F16::ONE.div(len);
+            let Some(inv) = objq.curved_at(&hq, len) else { continue };
             let slant = I16F16::from_f64(slant_of(nq.to_f64()));
             let cq = objq
                 .footprint_gradient(inv, nq, Vec3::from_f64(d), slant, Vec3::from_f64(v))
@@ -1163,7 +1163,8 @@ mod tests {
         ] {
             let obj = object::<f32>(shape, m);
             let h = obj.intersect(Vec3::ZERO, down, 1e-3, f32::MAX).unwrap();
-            assert_eq!(obj.curved_at(&h), curved, "{shape:?}");
+            let len = obj.facing_normal_len(&h, down).2;
+            assert_eq!(obj.curved_at(&h, len).is_some(), curved, "{shape:?}");
         }
         // The plane's slot still holds its normal.
         let (_, n) = both(Shape::Plane, m, [0.0; 3], [0.0, 0.0, -1.0]).unwrap();
