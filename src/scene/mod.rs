@@ -695,17 +695,14 @@ impl<S: Scalar> Object<S> {
     /// offset y across the ray (y·d = 0), carried along the ray onto the
     /// surface, changes n·v by c·y to first order. The shape operator in
     /// world terms, g = N Q M⁻¹ (v − (n·v) n) / |N n| (Q the object-space
-    /// normal's derivative: identity on the sphere, (1, 0, 1) on the
-    /// cylinder, (1, −1/4, 1) on the cone; M⁻¹ world → object, N its
-    /// transpose), then the slant: c = g − n (g·d)/(n·d), so c·d = 0. `S`'s
+    /// normal's derivative, [`Shape::normal_change`]; M⁻¹ world → object, N
+    /// its transpose; not one matrix from set-up: N Q M⁻¹ of a small object
+    /// overflows Q16.16, its entries the inverse scale squared), then the slant: c = g − n (g·d)/(n·d), so c·d = 0. `S`'s
     /// own arithmetic; per ray.
     pub fn footprint_gradient(&self, inv_len: S, n: Vec3<S>, d: Vec3<S>, slant: S, v: Vec3<S>) -> Vec3<S> {
-        let q = self.to_object.vector(v - n.scale(n.dot_inline(v)));
-        let q = match self.shape {
-            Shape::Cylinder => Vec3::new(q.x, S::ZERO, q.z),
-            Shape::Cone => Vec3::new(q.x, q.y.mul(S::from_q15(-8192)), q.z),
-            _ => q,
-        };
+        let q = self
+            .shape
+            .normal_change(self.to_object.vector(v - n.scale(n.dot_inline(v))));
         let g = self.normal_to_world.vector(q).scale(inv_len);
         g - n.scale(g.dot_inline(d).mul(slant))
     }
@@ -1051,9 +1048,6 @@ mod tests {
         assert!(close(n, want.map(|x| x / l)), "{n:?}");
     }
 
-    /// The footprint's turn of the normal: the set-up stretch (world →
-    /// object's longest row) times the footprint, 1/r on the cone's side,
-    /// none on flat faces, at most 1; the plane keeps its normal.
     /// [`Object::footprint_gradient`] against central differences: rays
     /// beside the hit, parallel to it, meet the surface where n·v has
     /// changed by c·y. Random spheres, cylinders and cones under random

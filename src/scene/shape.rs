@@ -69,6 +69,19 @@ impl Shape {
         }
     }
 
+    /// How the curved part's object-space normal ([`LocalHit::n`], linear in
+    /// the point there) changes along an object-space offset `q`: the
+    /// sphere's p, the cylinder's (x, 0, z), the cone's (x, (1 − y)/4, z).
+    /// Zero on flat faces.
+    pub fn normal_change<S: Scalar>(self, q: Vec3<S>) -> Vec3<S> {
+        match self {
+            Shape::Sphere => q,
+            Shape::Cylinder => Vec3::new(q.x, S::ZERO, q.z),
+            Shape::Cone => Vec3::new(q.x, q.y.mul(S::from_q15(-8192)), q.z),
+            Shape::Plane | Shape::Cube => Vec3::ZERO,
+        }
+    }
+
     /// The nearest hit with `t_min < t < t_max` of the ray `o + t d`.
     ///
     /// For bounded shapes `d` must be a unit vector and `o` near the shape (see
