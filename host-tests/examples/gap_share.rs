@@ -1,0 +1,35 @@
+//! Where a gap frame's rays go (diagnosis): `gap_share SCENE WIDTH [POINT]`
+//! prints the mean rays a casting pixel takes against the survey's budget,
+//! and the share of the frame's pixels that cast.
+use lensray::{Renderer, Scene, I16F16};
+
+fn main() {
+    let a: Vec<String> = std::env::args().collect();
+    let mut text = std::fs::read_to_string(&a[1]).unwrap();
+    if let Some(p) = a.get(3) {
+        text = lensray_host::convergence::with_point(&text, p.parse().unwrap());
+    }
+    let w: u32 = a[2].parse().unwrap();
+    let h = w * 3 / 4;
+    let scene = Scene::<I16F16>::parse(&text).unwrap();
+    let r = Renderer::new(&scene, w, h);
+    let mut out = vec![Default::default(); w as usize];
+    let rays: u64 = (0..h).map(|y| r.render_row(y, &mut out) as u64).sum();
+    let every: u64 = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| r.pixel_rays(x, y).1 as u64)
+        .sum();
+    let n = (w * h) as f64;
+    let mean = every as f64 / n;
+    println!(
+        "point {}: period {}, loose {}, budget {:.3}, mean rays a pixel if all cast {:.3}, casting share {:.3}, rays a pixel {:.3} ({:.1} %)",
+        r.samples(),
+        r.gap_period(),
+        r.gap_loose(),
+        r.gap_budget() as f64 / 256.0,
+        mean,
+        rays as f64 / n / mean,
+        rays as f64 / n,
+        100.0 * rays as f64 / n / r.samples() as f64
+    );
+}
