@@ -22,10 +22,11 @@ fn main() {
     let n = (w * h) as f64;
     let mean = every as f64 / n;
     println!(
-        "point {}: period {}, loose {}, budget {:.3}, mean rays a pixel if all cast {:.3}, casting share {:.3}, rays a pixel {:.3} ({:.1} %)",
+        "point {}: period {}, loose {} (checkers {}), budget {:.3}, mean rays a pixel if all cast {:.3}, casting share {:.3}, rays a pixel {:.3} ({:.1} %)",
         r.samples(),
         r.gap_period(),
         r.gap_loose(),
+        r.gap_checkers(),
         r.gap_budget() as f64 / 256.0,
         mean,
         rays as f64 / n / mean,

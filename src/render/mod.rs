@@ -194,6 +194,22 @@ fn share_less_two_deviations(filled: u64, tested: u64) -> u64 {
     (filled.saturating_sub(sigma) << 16) / tested
 }
 
+/// Whether a gap the loose rule fills on a checker is wrong: its pixel
+/// `mid`, rendered, is more than [`CHECKER_FILL_LEVELS`] off the `line`
+/// between its anchors on some channel.
+fn checker_fill_wrong(line: scanline::Fine, mid: scanline::Fine) -> bool {
+    let most = ((CHECKER_FILL_LEVELS as u32) << 8) + 255;
+    (0..3).any(|i| (line.0[i] as u32).abs_diff(mid.0[i] as u32) > most)
+}
+
+/// How far, in levels, a gap filled on a checker may be off its pixel as
+/// rendered before the fill counts as wrong (see [`Renderer::gap_checkers`]),
+/// whatever the rung: a checker in focus has no lens noise to hide in, and
+/// one out of focus is box-filtered smooth. Seed 10835 (`point` 3), a
+/// checker finer than the pixels in focus, filled its moiré at rung 24:
+/// -2.09 dB against `point` independent samples.
+pub const CHECKER_FILL_LEVELS: u8 = 24;
+
 /// The column of row `row`'s first anchor at `period`: a diagonal from row
 /// to row, so that no column is a gap in every row.
 #[inline]
@@ -636,6 +652,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // The longest period again with the loose rule where none leaves a
         // pair a pixel, its rungs counted on the same pairs.
         const RUNGS: usize = scanline::GAP_LOOSE_LEVELS.len();
+        const VARIANTS: usize = 2 * RUNGS;
         // The budget sought, in 256ths: a stratified pair a pixel that casts (one at `point` 1).
         let want = 256 * self.samples.min(GAP_PAIR);
         // Rays a pixel that casts has, in 256ths, where the share `least`
@@ -652,7 +669,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             if period < *GAP_PERIODS.end() && left(rays) * 256 < 5 * (pixels - self.fillable_gaps()) * want as u64 {
                 continue;
             }
-            let mut least = [u64::MAX; RUNGS];
+            // Variant v: rung v / 2, off checkers where v is even (see
+            // [`Renderer::gap_checkers`]); the strict rule's are all one.
+            let mut least = [u64::MAX; VARIANTS];
+            // By rung: pairs it fills only on checkers, and of those the ones
+            // whose middle pixel is off the line (see [`checker_fill_wrong`]).
+            let (mut textured, mut wrong) = ([0u64; RUNGS], [0u64; RUNGS]);
             for pass in 0..2 {
                 if pass == 1 && self.samples == 1 {
                     break;
@@ -662,12 +684,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 self.rules |= (extending as u32) << 17;
                 // By k (2^k up to 16 rays): anchors that cast 2^k rays or more,
                 // and those whose first 2^k were wide; all of them, then those
-                // of the pairs each rung leaves unfilled (their gaps cast: edges,
+                // of the pairs each variant leaves unfilled (their gaps cast: edges,
                 // wide more often than anchors at large; seed 6019 at `point` 7
                 // cast 40.1 % counted from all anchors alone).
-                let (mut cast, mut wide) = ([[0u64; 5]; RUNGS + 1], [[0u64; 5]; RUNGS + 1]);
-                let (mut tested, mut filled) = (0u64, [0u64; RUNGS]);
-                self.survey_pairs(s, |(l, nl, cl, wl), (r, nr, cr, wr)| {
+                let (mut cast, mut wide) = ([[0u64; 5]; VARIANTS + 1], [[0u64; 5]; VARIANTS + 1]);
+                let (mut tested, mut filled) = (0u64, [0u64; VARIANTS]);
+                self.survey_pairs(s, |(l, nl, cl, wl), (r, nr, cr, wr), (x, y)| {
                     rays += (nl + nr) as u64;
                     tested += 1;
                     // The pair's two anchors into group g's counts.
@@ -682,28 +704,60 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     if extending {
                         count(0);
                     }
-                    for (i, (f, &level)) in filled.iter_mut().zip(&levels).enumerate() {
-                        let fill = scanline::fills((l, cl), (r, cr), level);
+                    let fill = |v: usize| scanline::fills((l, cl), (r, cr), levels[v / 2], v % 2 == 1);
+                    for (v, f) in filled.iter_mut().enumerate() {
+                        let fill = fill(v);
                         *f += fill as u64;
                         if extending && !fill {
-                            count(i + 1);
+                            count(v + 1);
+                        }
+                    }
+                    // Where a rung fills only on checkers: its middle pixel.
+                    if loose && fill(VARIANTS - 1) && !fill(VARIANTS - 2) {
+                        let (m, nm, _, _) = self.pixel_far_wide(x + period / 2, y);
+                        rays += nm as u64;
+                        let line = scanline::interpolate((l, cl), (r, cr), period / 2, period).0;
+                        for i in 0..RUNGS {
+                            if fill(2 * i + 1) && !fill(2 * i) {
+                                textured[i] += 1;
+                                wrong[i] += checker_fill_wrong(line, m) as u64;
+                            }
                         }
                     }
                 });
                 if tested == 0 {
                     return self.without_gaps();
                 }
-                // The share of rung i's pairs filled, less two binomial
+                // The share of variant v's pairs filled, less two binomial
                 // deviations (rounded up), in 65536ths, the least of the passes.
                 for (least, &filled) in least.iter_mut().zip(&filled) {
                     *least = (*least).min(share_less_two_deviations(filled, tested));
                 }
-                let budgets: [u32; RUNGS] = core::array::from_fn(|i| budget_of(&self, least[i], rays));
-                // The strictest rung that leaves a pair, else the loosest.
-                let rung = budgets.iter().position(|&b| b >= want).unwrap_or(RUNGS - 1);
-                self.rules = period | (levels[rung] as u32) << 8;
-                self.budget256 = budgets[rung];
-                chosen = least[rung];
+                let budgets: [u32; VARIANTS] = core::array::from_fn(|v| budget_of(&self, least[v], rays));
+                // On checkers where at most a quarter of its fills there were wrong.
+                let sound = |v: usize| v.is_multiple_of(2) || 4 * wrong[v / 2] <= textured[v / 2];
+                // The strictest sound variant that leaves a pair; else, from
+                // `point` 3, every gap filled off checkers where it is not
+                // sound on them (a ray a pixel or more: 40 % of 3 is 1.2);
+                // else the strictest on checkers that leaves a pair, else the
+                // loosest (the budget's: at `point` 1 and 2 a single ray is no
+                // better than an independent one, and seed 10819 at 2 lost
+                // 1.6 dB off checkers at 1.3 rays).
+                let on = |v: usize| v % 2 == 1;
+                let v = (0..VARIANTS).find(|&v| sound(v) && budgets[v] >= want).unwrap_or(
+                    if self.samples >= 3 && !sound(VARIANTS - 1) && budgets[VARIANTS - 2] >= 256 {
+                        VARIANTS - 2
+                    } else {
+                        (0..VARIANTS)
+                            .find(|&v| on(v) && budgets[v] >= want)
+                            .unwrap_or(VARIANTS - 1)
+                    },
+                );
+                let rung = v / 2;
+                let off_checkers = loose && v.is_multiple_of(2);
+                self.rules = period | (levels[rung] as u32) << 8 | (off_checkers as u32) << 18;
+                self.budget256 = budgets[v];
+                chosen = least[v];
                 if extending {
                     // The share of pixels wide at their first 2^k rays, two
                     // deviations high (all where none cast them), in 65536ths.
@@ -719,10 +773,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     // Over the pixels that cast: the frame's N − G outside gaps at
                     // all anchors' share, its (1 − F) G unfilled gaps at the
                     // unfilled pairs' (F the rung's share filled, as counted).
-                    let (gaps, f) = (self.fillable_gaps(), (filled[rung] << 16) / tested);
+                    let (gaps, f) = (self.fillable_gaps(), (filled[v] << 16) / tested);
                     let unfilled = (gaps * ((1 << 16) - f)) >> 16;
                     let share = |k: usize| {
-                        let (a, u) = (share_of(0, k), share_of(rung + 1, k));
+                        let (a, u) = (share_of(0, k), share_of(v + 1, k));
                         ((pixels - gaps) * a + unfilled * u).div_ceil((pixels - gaps + unfilled).max(1))
                     };
                     let (b, p) = (self.budget256 as u64, self.samples as u64);
@@ -758,7 +812,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// The anchor pairs of [`Renderer::gap_surveyed`]'s grid of spacing `s`
     /// at the current period: one in each cell, every phase of the dither,
     /// each anchor as [`Renderer::pixel_far_wide`] renders it.
-    fn survey_pairs(&self, s: u32, mut pair: impl FnMut(FarWide, FarWide)) {
+    fn survey_pairs(&self, s: u32, mut pair: impl FnMut(FarWide, FarWide, (u32, u32))) {
         let (cols, rows, period) = (self.camera.cols(), self.camera.rows(), self.gap_period());
         for j in 0..rows / s {
             for k in 0..cols / s {
@@ -768,7 +822,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 // The anchor at or after x, and the next.
                 let x = x + (gap_phase(y, period) + period - x % period) % period;
                 if x + period < cols {
-                    pair(self.pixel_far_wide(x, y), self.pixel_far_wide(x + period, y));
+                    pair(self.pixel_far_wide(x, y), self.pixel_far_wide(x + period, y), (x, y));
                 }
             }
         }
@@ -783,14 +837,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// and 43 % as rendered, 40.9 % of `point`. Returns `rays` with the
     /// passes' rays added.
     fn gap_verified(&mut self, s: u32, mut rays: u64, mut least: u64) -> u64 {
-        let level = self.gap_loose();
+        let (level, checkers) = (self.gap_loose(), self.gap_checkers());
         let mut assumed = self.budget_for(least, rays);
         for _ in 0..3 {
             let (mut tested, mut filled) = (0u64, 0u64);
-            self.survey_pairs(s, |(l, nl, cl, _), (r, nr, cr, _)| {
+            self.survey_pairs(s, |(l, nl, cl, _), (r, nr, cr, _), _| {
                 rays += (nl + nr) as u64;
                 tested += 1;
-                filled += scanline::fills((l, cl), (r, cr), level) as u64;
+                filled += scanline::fills((l, cl), (r, cr), level, checkers) as u64;
             });
             let share = share_less_two_deviations(filled, tested.max(1));
             // The pass's own rays come out of the budget, and so does a shortfall.
@@ -878,6 +932,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         (self.rules >> 8) as u8
     }
 
+    /// Whether the loose rule fills between anchors that met a checker (see
+    /// [`scanline::fills`]): unless the gap survey found it filling wrong
+    /// there, a checker finer than the gaps whose moiré the line misses.
+    pub fn gap_checkers(&self) -> bool {
+        self.rules >> 18 & 1 == 0
+    }
+
     /// Whether rows have gaps (see [`scanline::fills`]): rows are
     /// filtered and the frame is below [`ADAPTIVE_MIN_POINT`] (a ray budget).
     #[inline]
@@ -933,7 +994,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// takes no gap survey) renders them, 40 % of `point` each.
     pub fn without_gaps(mut self) -> Self {
         self.budget256 = 0;
-        self.rules &= !0x2_FFFF;
+        self.rules &= !0x6_FFFF;
         self
     }
 
@@ -1059,7 +1120,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             .with_filter(self.filters())
             .with_gaps(self.gaps().then(|| {
                 let period = self.gap_period();
-                (period, gap_phase(row, period), self.gap_loose())
+                (period, gap_phase(row, period), self.gap_loose(), self.gap_checkers())
             }))
     }
 

@@ -249,18 +249,18 @@ pub const GAP_LEVELS: u8 = 1;
 /// picture is nearly linear over a few pixels there) and share a lamp class,
 /// or where their own values ([`Fine`]) are less than [`GAP_LEVELS`] + 1
 /// apart on every channel and neither met a checker (unless both are out
-/// of focus). `loose` above 0: less than that many levels + 1 apart on any
-/// surface (a rung of [`GAP_LOOSE_LEVELS`]),
-/// for frames where the strict rule fills too few gaps to leave a ray a
-/// pixel (see `Renderer::gap_period`).
+/// of focus). `loose` above 0: less than that many levels + 1 apart (a
+/// rung of [`GAP_LOOSE_LEVELS`]), on any surface where `checkers`, else as
+/// the strict rule off checkers, for frames where the strict rule fills too
+/// few gaps to leave a ray a pixel (see `Renderer::gap_period`).
 #[inline]
-pub fn fills(left: (Fine, u8), right: (Fine, u8), loose: u8) -> bool {
+pub fn fills(left: (Fine, u8), right: (Fine, u8), loose: u8, checkers: bool) -> bool {
     let (a, b) = (left.0, right.0);
     // Less than one level more than the rule's levels, in 256ths.
     let most = ((if loose > 0 { loose } else { GAP_LEVELS } as u32) << 8) + 255;
     let close = |i: usize| (a.0[i] as u32).abs_diff(b.0[i] as u32) <= most;
     // A checker may hide a square between two anchors of one colour.
-    let smooth = loose > 0 || (left.1 | right.1) & TEXTURED == 0 || left.1 & right.1 & 3 != 0;
+    let smooth = (loose > 0 && checkers) || (left.1 | right.1) & TEXTURED == 0 || left.1 & right.1 & 3 != 0;
     let near = smooth && close(0) && close(1) && close(2);
     let (l, r) = (left.1 & FILTER_BITS, right.1 & FILTER_BITS);
     let far = l & 3 != 0 && l & WIDE != 0 && l == r;
@@ -271,7 +271,7 @@ pub fn fills(left: (Fine, u8), right: (Fine, u8), loose: u8) -> bool {
 /// anchor `right` (in [`Fine`] steps, rounded), with their class where they
 /// share it, else 0.
 #[inline]
-fn interpolate(left: (Fine, u8), right: (Fine, u8), d: u32, period: u32) -> (Fine, u8) {
+pub(crate) fn interpolate(left: (Fine, u8), right: (Fine, u8), d: u32, period: u32) -> (Fine, u8) {
     let (a, b) = (left.0 .0, right.0 .0);
     let m = |i: usize| ((a[i] as u32 * (period - d) + b[i] as u32 * d + period / 2) / period) as u16;
     let class = if left.1 == right.1 { left.1 } else { 0 };
@@ -302,7 +302,7 @@ pub struct Scanline<F> {
     /// Whether the row is filtered at all; without it each pixel is passed on as it comes.
     filter: bool,
     /// Gaps (see [`fills`]): anchors every `period` columns from `phase`, or `None`.
-    gaps: Option<(u32, u32, u8)>,
+    gaps: Option<(u32, u32, u8, bool)>,
     /// The last anchor fetched.
     left: (Fine, u8),
     /// The anchor right of the gaps being fetched, rendered before them.
@@ -338,16 +338,16 @@ impl<F: FnMut(u32) -> (Fine, u32, u8)> Scanline<F> {
     /// ... (`period` 2 to 4); the columns between two anchors cast no ray and
     /// take the line between them where [`fills`] allows, else are rendered,
     /// after the anchor on their right. Filtered rows only.
-    pub fn with_gaps(mut self, gaps: Option<(u32, u32, u8)>) -> Self {
+    pub fn with_gaps(mut self, gaps: Option<(u32, u32, u8, bool)>) -> Self {
         self.gaps = gaps
-            .filter(|&(period, _, _)| period >= 2)
-            .map(|(period, phase, loose)| (period, phase % period, loose));
+            .filter(|&(period, ..)| period >= 2)
+            .map(|(period, phase, loose, checkers)| (period, phase % period, loose, checkers));
         self
     }
 
     /// Column `k` as rendered or filled (`k` = 0, 1, 2 ... in turn).
     fn fetch(&mut self, k: u32) -> (Fine, u8) {
-        let Some((period, phase, loose)) = self.gaps else {
+        let Some((period, phase, loose, checkers)) = self.gaps else {
             return self.render(k);
         };
         let offset = (k + period - phase) % period;
@@ -367,7 +367,7 @@ impl<F: FnMut(u32) -> (Fine, u32, u8)> Scanline<F> {
             if k >= offset && next < self.cols {
                 let p = self.render(next);
                 self.right = Some(p);
-                self.fill = fills(self.left, p, loose);
+                self.fill = fills(self.left, p, loose, checkers);
             }
         }
         match self.right {
@@ -435,7 +435,7 @@ mod tests {
 
     /// A row of given pixels through a [`Scanline`] (with `gaps`): what it
     /// yields, the columns it asked for in order, and the rays it counted.
-    fn run(row: &[(Fine, u32, u8)], gaps: Option<(u32, u32, u8)>) -> (Vec<Rgb888>, Vec<u32>, u32) {
+    fn run(row: &[(Fine, u32, u8)], gaps: Option<(u32, u32, u8, bool)>) -> (Vec<Rgb888>, Vec<u32>, u32) {
         let mut asked = Vec::new();
         let mut line = Scanline::new(
             |col| {
@@ -520,6 +520,7 @@ mod tests {
             let period = 2 + next() % 3;
             let phase = next() % period;
             let loose = [0, 0, GAP_LOOSE_LEVELS[0], GAP_LOOSE_LEVELS[1], 255][(next() % 5) as usize];
+            let checkers = next().is_multiple_of(2);
             // Runs of near colours and classes, so that both answers occur.
             let mut base = [0u8; 3];
             let mut class = 0u8;
@@ -545,7 +546,7 @@ mod tests {
                     continue;
                 }
                 let (l, r) = (row[l.unwrap() as usize], row[r as usize]);
-                if fills((l.0, l.2), (r.0, r.2), loose) {
+                if fills((l.0, l.2), (r.0, r.2), loose, checkers) {
                     let (c, class) = interpolate((l.0, l.2), (r.0, r.2), offset, period);
                     for i in 0..3 {
                         // The line between the anchors' own values, in levels, rounded
@@ -563,7 +564,7 @@ mod tests {
                     rendered_gaps += 1;
                 }
             }
-            let (out, asked, line_rays) = run(&row, Some((period, phase, loose)));
+            let (out, asked, line_rays) = run(&row, Some((period, phase, loose, checkers)));
             let rays: u32 = row.iter().zip(&cast).filter(|(_, &c)| c).map(|(p, _)| p.1).sum();
             assert_eq!(line_rays, rays, "len {len} period {period} phase {phase}");
             let mut sorted = asked.clone();
@@ -631,12 +632,13 @@ mod tests {
     /// their own values are less than two levels apart on every channel
     /// (9.4 and 10.6 fill, though their rounded levels 9 and 11 are two
     /// apart); with a checker on either (not both far out of focus) only a
-    /// loose rung fills, less than its levels + 1 apart.
+    /// loose rung on checkers fills, less than its levels + 1 apart; off
+    /// checkers, none does.
     #[test]
     fn anchors_fill_on_their_own_values() {
         let f = |v: f64| Fine([(v * 256.0) as u16; 3]);
-        assert!(fills((f(9.4), 0), (f(10.6), 0), 0));
-        assert!(!fills((f(9.4), 0), (f(11.45), 0), 0));
+        assert!(fills((f(9.4), 0), (f(10.6), 0), 0, true));
+        assert!(!fills((f(9.4), 0), (f(11.45), 0), 0, true));
         let mut next = crate::test_rng::xorshift32(0xf111);
         let (mut yes, mut no) = (0, 0);
         for _ in 0..20_000 {
@@ -645,9 +647,15 @@ mod tests {
             let b = Fine(a.0.map(|v| (v as i32 + (next() % 1536) as i32 - 768).clamp(0, 65280) as u16));
             let apart = |most: u32| (0..3).all(|i| (a.0[i] as u32).abs_diff(b.0[i] as u32) < most);
             let want = apart(2 * 256);
-            assert_eq!(fills((a, 0), (b, 0), 0), want, "{a:?} {b:?}");
-            assert!(!fills((a, TEXTURED), (b, 0), 0), "{a:?} {b:?}");
-            assert_eq!(fills((a, TEXTURED), (b, 2), 8), apart(9 * 256), "{a:?} {b:?}");
+            for checkers in [false, true] {
+                assert_eq!(fills((a, 0), (b, 0), 0, checkers), want, "{a:?} {b:?}");
+                assert!(!fills((a, TEXTURED), (b, 0), 0, checkers), "{a:?} {b:?}");
+                // Off checkers a loose rung is the strict rule there.
+                assert!(!fills((a, TEXTURED), (b, 2), 8, false), "{a:?} {b:?}");
+                // Off checkers, elsewhere, it is still loose.
+                assert_eq!(fills((a, 2), (b, 2), 8, checkers), apart(9 * 256), "{a:?} {b:?}");
+            }
+            assert_eq!(fills((a, TEXTURED), (b, 2), 8, true), apart(9 * 256), "{a:?} {b:?}");
             if want {
                 yes += 1;
             } else {
