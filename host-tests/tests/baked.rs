@@ -299,3 +299,35 @@ fn an_adaptive_frame_keeps_its_survey_after_baking() {
         .unwrap();
     assert_eq!(loaded.renderer().adaptive_cap(), (cap, survey));
 }
+
+#[test]
+fn a_gap_frame_keeps_its_rules_after_baking() {
+    // Seed 10835 at `point` 3, 160x120: gaps every 4 columns, a loose rung,
+    // off checkers (rules bit 18, format 15). The rows, gaps filled as the
+    // survey chose, are the same after baking.
+    let text = lensray_host::convergence::with_point(&lensray_testkit::scenegen::generate_lens(10835), 3);
+    let q = Scene::<I16F16>::parse(&text).unwrap();
+    let r = Renderer::new(&q, 160, 120);
+    assert!(r.gap_period() == 4 && r.gap_loose() > 0 && !r.gap_checkers());
+    let mut loaded = Baked::<I16F16>::empty();
+    loaded.load(&baked_bytes(&r)).unwrap();
+    let again = loaded.renderer();
+    assert_eq!(
+        (
+            again.gap_period(),
+            again.gap_loose(),
+            again.gap_checkers(),
+            again.gap_budget()
+        ),
+        (r.gap_period(), r.gap_loose(), r.gap_checkers(), r.gap_budget())
+    );
+    let (mut a, mut b) = (vec![Default::default(); 160], vec![Default::default(); 160]);
+    for row in 0..120 {
+        assert_eq!(
+            again.render_row(row, &mut a),
+            r.render_row(row, &mut b),
+            "row {row}'s rays"
+        );
+        assert_eq!(a, b, "row {row}");
+    }
+}

@@ -68,7 +68,9 @@ pub struct Renderer<'a, S: Scalar> {
     /// gaps); 8-15: the loose rule's levels the gaps fill by (0: the strict
     /// rule); 16, from [`ADAPTIVE_MIN_POINT`]: an unsettled pixel doubles its
     /// pilot at least (see [`Renderer::doubling`]); 17, below it with gaps:
-    /// a pixel whose first rays are wide takes every sample (see [`Renderer::extends`]).
+    /// a pixel whose first rays are wide takes every sample (see [`Renderer::extends`]);
+    /// 18, with a loose rule: it fills off checkers (see
+    /// [`Renderer::gap_checkers`]; baked since format 15).
     pub(crate) rules: u32,
     /// A plane that cuts the lens: a pixel's rays are weighed by their
     /// part's share of the lens (see [`cut`]).
@@ -622,10 +624,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// period is the shortest whose budget is [`GAP_PAIR`] rays a pixel that
     /// casts or more (periods that could not reach it are not surveyed),
     /// else the longest, surveyed again with the loose rule's rungs (see
-    /// [`scanline::GAP_LOOSE_LEVELS`]), counted on the same pairs: the
-    /// strictest that reaches it, else the loosest (every gap filled: within
-    /// 40 % of `point` 1). Seeds 8600-8619, 8700-8719, 8800-8819 at 320x240
-    /// meet both floors at `point` 1 on 56 of 60 frames, at 2 on 57 of 60
+    /// [`scanline::GAP_LOOSE_LEVELS`]), each off checkers and on them,
+    /// counted on the same pairs: the strictest that reaches it, on
+    /// checkers only where its fills there are sound (the middle pixel of
+    /// each pair the loose rule may fill is rendered too, at most half as
+    /// many rays again), else every gap filled off checkers where that
+    /// leaves a ray a pixel, else on them (within 40 % of `point` 1). The
+    /// choice is then checked as it renders ([`Renderer::gap_verified`]).
+    /// Seeds 8600-8619, 8700-8719, 8800-8819 at 320x240
+    /// met both floors at `point` 1 on 56 of 60 frames, at 2 on 57 of 60
     /// (one loose rule and one ray sought: 47 and 48). Set-up only, in integers.
     fn gap_surveyed(mut self, s: u32) -> Self {
         let (cols, rows) = (self.camera.cols(), self.camera.rows());
