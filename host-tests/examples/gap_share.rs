@@ -11,7 +11,10 @@ fn main() {
     }
     let w: u32 = a[2].parse().unwrap();
     let h = w * 3 / 4;
-    let scene = Scene::<I16F16>::parse(&text).unwrap();
+    // As the campaign renders it: stratified and adaptive whatever the scene says.
+    let mut scene = Scene::<I16F16>::parse(&text).unwrap();
+    scene.camera.sampler = lensray::unstable::sampler::Sampler::Stratified;
+    scene.camera.adaptive = true;
     let r = Renderer::new(&scene, w, h);
     let mut out = vec![Default::default(); w as usize];
     let rays: u64 = (0..h).map(|y| r.render_row(y, &mut out) as u64).sum();
@@ -22,8 +25,9 @@ fn main() {
     let n = (w * h) as f64;
     let mean = every as f64 / n;
     println!(
-        "point {}: period {}, loose {} (checkers {}), budget {:.3}, mean rays a pixel if all cast {:.3}, casting share {:.3}, rays a pixel {:.3} ({:.1} %)",
+        "point {} (survey rays {:.3} a pixel): period {}, loose {} (checkers {}), budget {:.3}, mean rays a pixel if all cast {:.3}, casting share {:.3}, rays a pixel {:.3} ({:.1} %)",
         r.samples(),
+        r.adaptive_cap().1 as f64 / (w * h) as f64,
         r.gap_period(),
         r.gap_loose(),
         r.gap_checkers(),
