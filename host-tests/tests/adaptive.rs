@@ -756,28 +756,36 @@ fn generated_lens_frames_stay_within_the_ray_budget_survey_included() {
     );
 }
 
+/// Asserts that the generated adaptive lens scenes `seeds`, each rendered at
+/// every `point` of `points` at `w`×`h`, cast at most 40 % of `point`,
+/// survey included; returns how many frames it rendered.
+fn frames_within_budget(seeds: std::ops::Range<u64>, points: std::ops::RangeInclusive<u32>, w: u32, h: u32) -> u32 {
+    let mut frames = 0;
+    for seed in seeds {
+        let scene = Scene::<I16F16>::parse(&lensray_testkit::scenegen::generate_lens(seed)).unwrap();
+        if scene.camera.radius == 0.0 || !scene.camera.adaptive {
+            continue;
+        }
+        for point in points.clone() {
+            let r = Renderer::new_with_samples(&scene, w, h, Some(point));
+            let rays = frame_rays(&r, w, h);
+            assert!(
+                rays * 5 <= 2 * point as u64 * (w * h) as u64,
+                "seed {seed} at point {point}: {:.2} % of point",
+                100.0 * rays as f64 / (w * h) as f64 / point as f64
+            );
+            frames += 1;
+        }
+    }
+    frames
+}
+
 #[test]
 fn small_point_frames_stay_within_the_ray_budget_at_every_point() {
     // Seeds 6000 to 6019 at 80x60 rendered at every `point` from 3 to 19
     // (and 20, where the pilot of 8 starts): every frame casts at most 40 %
     // of `point`, survey included; the rule before cast 100 % below 20.
-    let mut frames = 0;
-    for seed in 6000..6020u64 {
-        let scene = Scene::<I16F16>::parse(&lensray_testkit::scenegen::generate_lens(seed)).unwrap();
-        if scene.camera.radius == 0.0 || !scene.camera.adaptive {
-            continue;
-        }
-        for point in 3..=20 {
-            let r = Renderer::new_with_samples(&scene, 80, 60, Some(point));
-            let rays = frame_rays(&r, 80, 60);
-            assert!(
-                rays * 5 <= 2 * point as u64 * 4800,
-                "seed {seed} at point {point}: {:.1} % of point",
-                100.0 * rays as f64 / 4800.0 / point as f64
-            );
-            frames += 1;
-        }
-    }
+    let frames = frames_within_budget(6000..6020, 3..=20, 80, 60);
     assert!(frames >= 15 * 18, "only {frames} frames");
 }
 
@@ -818,23 +826,7 @@ fn a_gap_frame_stays_within_the_ray_budget_as_it_renders_not_as_surveyed() {
     // is checked as the frame renders it. Seeds 10810 to 10829 at `point` 4
     // to 7, 320x240 (the survey's grid is sized by the frame), every frame
     // within 40 %, survey included.
-    let mut frames = 0;
-    for seed in 10810..10830u64 {
-        let scene = Scene::<I16F16>::parse(&lensray_testkit::scenegen::generate_lens(seed)).unwrap();
-        if scene.camera.radius == 0.0 || !scene.camera.adaptive {
-            continue;
-        }
-        for point in 4..=7 {
-            let r = Renderer::new_with_samples(&scene, 320, 240, Some(point));
-            let rays = frame_rays(&r, 320, 240);
-            assert!(
-                rays * 5 <= 2 * point as u64 * 320 * 240,
-                "seed {seed} at point {point}: {:.2} % of point",
-                100.0 * rays as f64 / (320.0 * 240.0) / point as f64
-            );
-            frames += 1;
-        }
-    }
+    let frames = frames_within_budget(10810..10830, 4..=7, 320, 240);
     assert!(frames >= 48, "only {frames} frames");
     // The check draws its pairs afresh: on the choosing passes' own pairs it
     // confirmed a share they had overstated by chance (seed 8662 at `point`

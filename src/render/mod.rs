@@ -834,11 +834,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// The anchor pairs of [`Renderer::gap_surveyed`]'s grid of spacing `s`
     /// at the current period: one in each cell, every phase of the dither,
     /// each anchor as [`Renderer::pixel_far_wide`] renders it; `draw` 0 for
-    /// the choosing passes, others for spots drawn afresh in each cell.
+    /// the choosing passes, others for spots drawn afresh in every other
+    /// cell (half the rays: a check, not a choice).
     fn survey_pairs(&self, s: u32, draw: u32, mut pair: impl FnMut(FarWide, FarWide, (u32, u32))) {
         let (cols, rows, period) = (self.camera.cols(), self.camera.rows(), self.gap_period());
         for j in 0..rows / s {
             for k in 0..cols / s {
+                if draw > 0 && (j + k + draw).is_multiple_of(2) {
+                    continue;
+                }
                 let h = (j.wrapping_mul(0x9E37_79B9) ^ k.wrapping_mul(0x85EB_CA6B) ^ draw.wrapping_mul(0x27D4_EB2F))
                     .wrapping_mul(0xC2B2_AE35);
                 let y = j * s + (h >> 8) % s;
@@ -854,9 +858,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
 
     /// [`Renderer::gap_surveyed`]'s choice checked as the frame will render
     /// it: pairs at spots drawn afresh, at the chosen budget, rung and
-    /// extension, whose share filled (less two deviations) lowers the
-    /// budget where it falls short of `least`, the share the choice assumed
-    /// (65536ths), up to three times. The passes that chose measured other
+    /// extension; where the share they fill falls short of `least`, the
+    /// share the choice assumed (65536ths, two deviations low), the budget
+    /// drops to theirs less two deviations, checked again, up to three
+    /// draws. The passes that chose measured other
     /// budgets, or extension on: seed 10819 at `point` 6 filled 61 % of its
     /// pairs there and 43 % as rendered, 40.9 % of `point`. Fresh spots,
     /// not the choosing passes' again: a share those overstated by chance
@@ -872,11 +877,18 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 tested += 1;
                 filled += scanline::fills((l, cl), (r, cr), level, checkers) as u64;
             });
-            let share = share_less_two_deviations(filled, tested.max(1));
+            // The share assumed holds where this draw fills it or more (it
+            // is already two deviations low); else two deviations below this one.
+            let holds = (filled << 16) >= least * tested.max(1);
+            let share = if holds {
+                least
+            } else {
+                share_less_two_deviations(filled, tested.max(1))
+            };
             // The pass's own rays come out of the budget, and so does a shortfall.
-            let measured = self.budget_for(share.min(least), rays);
+            let measured = self.budget_for(share, rays);
             self.budget256 = self.budget256.saturating_sub(assumed.saturating_sub(measured)).max(1);
-            if share >= least {
+            if holds {
                 break;
             }
             (least, assumed) = (share, measured);
