@@ -834,15 +834,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// The anchor pairs of [`Renderer::gap_surveyed`]'s grid of spacing `s`
     /// at the current period: one in each cell, every phase of the dither,
     /// each anchor as [`Renderer::pixel_far_wide`] renders it; `draw` 0 for
-    /// the choosing passes, others for spots drawn afresh in one cell of
-    /// each 2×2 block (a quarter of the rays: a check, not a choice; at
-    /// half, the check's rays took seed 10904, `point` 5 at 160x120, below
-    /// a pair a pixel that casts: +0.86 → -0.03 dB).
+    /// the choosing passes, others for spots drawn afresh in every other
+    /// cell (half the rays: a check, not a choice).
     fn survey_pairs(&self, s: u32, draw: u32, mut pair: impl FnMut(FarWide, FarWide, (u32, u32))) {
         let (cols, rows, period) = (self.camera.cols(), self.camera.rows(), self.gap_period());
         for j in 0..rows / s {
             for k in 0..cols / s {
-                if draw > 0 && !(j % 2 + 2 * (k % 2) + draw).is_multiple_of(4) {
+                if draw > 0 && (j + k + draw).is_multiple_of(2) {
                     continue;
                 }
                 let h = (j.wrapping_mul(0x9E37_79B9) ^ k.wrapping_mul(0x85EB_CA6B) ^ draw.wrapping_mul(0x27D4_EB2F))
@@ -859,29 +857,36 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     }
 
     /// [`Renderer::gap_surveyed`]'s choice checked as the frame will render
-    /// it: pairs at spots drawn afresh, at the chosen budget, rung and
-    /// extension; where the share they fill falls short of `least`, the
-    /// share the choice assumed (65536ths, two deviations low), the budget
-    /// drops to theirs less two deviations, checked again, up to three
-    /// draws. The passes that chose measured other
-    /// budgets, or extension on: seed 10819 at `point` 6 filled 61 % of its
-    /// pairs there and 43 % as rendered, 40.9 % of `point`. Fresh spots,
-    /// not the choosing passes' again: a share those overstated by chance
-    /// (seed 8662 at 9, 160x120, 70 pairs: 40.0 %) is not confirmed by
-    /// them. Returns `rays` with the passes' rays added.
+    /// it: pairs at spots drawn afresh in every other cell, at the chosen
+    /// budget, rung and extension; where the share they fill falls short
+    /// of `least`, the share the choice assumed (65536ths, two deviations
+    /// low), the budget drops to the draws' pooled share less two
+    /// deviations, checked by the next draw, up to three. The passes that
+    /// chose measured other budgets, or extension on: seed 10819 at `point`
+    /// 6 filled 61 % of its pairs there and 43 % as rendered, 40.9 % of
+    /// `point`. Fresh spots, not the choosing passes' again: a share those
+    /// overstated by chance (seed 8662 at 9, 160x120, 70 pairs: 40.0 %) is
+    /// not confirmed by them. Half the cells: at every cell the check's rays
+    /// cost 9225 and 9209 (`point` 5 and 4, 160x120) their margins; at a
+    /// quarter, too few pairs (14 on 8775 at 8) cut a third of a frame's rays.
+    /// Returns `rays` with the draws' rays added.
     fn gap_verified(&mut self, s: u32, mut rays: u64, mut least: u64) -> u64 {
         let (level, checkers) = (self.gap_loose(), self.gap_checkers());
         let mut assumed = self.budget_for(least, rays);
+        // The draws' pairs, filled and tested, pooled.
+        let (mut tested, mut filled) = (0u64, 0u64);
         for draw in 1..4 {
-            let (mut tested, mut filled) = (0u64, 0u64);
+            let (mut tested_now, mut filled_now) = (0u64, 0u64);
             self.survey_pairs(s, draw, |(l, nl, cl, _), (r, nr, cr, _), _| {
                 rays += (nl + nr) as u64;
-                tested += 1;
-                filled += scanline::fills((l, cl), (r, cr), level, checkers) as u64;
+                tested_now += 1;
+                filled_now += scanline::fills((l, cl), (r, cr), level, checkers) as u64;
             });
+            (tested, filled) = (tested + tested_now, filled + filled_now);
             // The share assumed holds where this draw fills it or more (it
-            // is already two deviations low); else two deviations below this one.
-            let holds = (filled << 16) >= least * tested.max(1);
+            // is already two deviations low); else the draws' pooled share
+            // less two deviations, checked by the next.
+            let holds = (filled_now << 16) >= least * tested_now.max(1);
             let share = if holds {
                 least
             } else {
