@@ -661,9 +661,6 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         const VARIANTS: usize = 2 * RUNGS;
         // The budget sought, in 256ths: a stratified pair a pixel that casts (one at `point` 1).
         let want = 256 * self.samples.min(GAP_PAIR);
-        // Rays a pixel that casts has, in 256ths, where the share `least`
-        // (65536ths) of the gaps of `self`'s period fill and `rays` are spent.
-        let budget_of = |me: &Self, least: u64, rays: u64| me.budget_for(least, rays);
         // The share of pairs the chosen rung fills, as the budget assumed it.
         let mut chosen = 0;
         for (period, loose) in GAP_PERIODS.map(|p| (p, false)).chain([(*GAP_PERIODS.end(), true)]) {
@@ -713,9 +710,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     }
                     let fill = |v: usize| scanline::fills((l, cl), (r, cr), levels[v / 2], v % 2 == 1);
                     for (v, f) in filled.iter_mut().enumerate() {
-                        let fill = fill(v);
-                        *f += fill as u64;
-                        if extending && !fill {
+                        let fills = fill(v);
+                        *f += fills as u64;
+                        if extending && !fills {
                             count(v + 1);
                         }
                     }
@@ -744,7 +741,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 for (least, &filled) in least.iter_mut().zip(&filled) {
                     *least = (*least).min(share_less_two_deviations(filled, tested));
                 }
-                let budgets: [u32; VARIANTS] = core::array::from_fn(|v| budget_of(&self, least[v], rays));
+                let budgets: [u32; VARIANTS] = core::array::from_fn(|v| self.budget_for(least[v], rays));
                 // On checkers where its fills there are off their pixels by
                 // at most twice as much as off them (noise, which casting
                 // would have too), and CHECKER_FILL_ERROR more: a checker in
@@ -765,13 +762,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 // them); else the strictest on checkers that leaves a pair,
                 // else the loosest (the budget's: a checker finer than the
                 // pixels at `point` 1 or 2 is not met).
-                let on = |v: usize| v % 2 == 1;
                 let v = (0..VARIANTS).find(|&v| sound(v) && budgets[v] >= want).unwrap_or(
                     if !sound(VARIANTS - 1) && budgets[VARIANTS - 2] >= 256 {
                         VARIANTS - 2
                     } else {
                         (0..VARIANTS)
-                            .find(|&v| on(v) && budgets[v] >= want)
+                            .find(|&v| !v.is_multiple_of(2) && budgets[v] >= want)
                             .unwrap_or(VARIANTS - 1)
                     },
                 );
