@@ -816,6 +816,14 @@ fn a_checker_finer_than_the_gaps_is_not_filled_by_its_moire() {
     assert_eq!((r.gap_loose(), r.gap_checkers()), (255, false));
     let truth = reference(&text, 320, 240, 512, Sampler::Stratified).unwrap();
     assert_eq!(judged_short(&text, &truth, 10703, 2), None);
+    // Seed 8800 at `point` 4, 160x120: the rung that fills every gap was
+    // judged sound on checkers against its own fills off them, which cross
+    // every edge (107 levels² a fill; 1 at the rung below), and filled the
+    // checker's moiré at 4 rays an anchor: -11.6 dB. Judged by the rung
+    // below, it fills off checkers (-3.0 dB, still short at this size).
+    let scene = gap_frame(8800, 4);
+    let r = Renderer::new(&scene, 160, 120);
+    assert!(r.gap_loose() > 0 && !r.gap_checkers(), "seed 8800 fills on checkers");
 }
 
 #[test]
