@@ -893,10 +893,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         for draw in 1..4 {
             self.survey_pairs(s, draw, |(l, nl, cl, _), (r, nr, cr, _), _| {
                 rays += (nl + nr) as u64;
-                tested_now += 1;
-                filled_now += scanline::fills((l, cl), (r, cr), level, checkers) as u64;
+                let fills = scanline::fills((l, cl), (r, cr), level, checkers) as u64;
+                (tested, filled, tested_now, filled_now) =
+                    (tested + 1, filled + fills, tested_now + 1, filled_now + fills);
             });
-            (tested, filled) = (tested + tested_now, filled + filled_now);
             // The share assumed (already two deviations low) holds where the
             // draws at this budget, pooled, fill it or more; the first draw
             // short of it is pooled with a second before the budget drops
