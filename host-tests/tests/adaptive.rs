@@ -799,8 +799,7 @@ fn a_checker_finer_than_the_gaps_is_not_filled_by_its_moire() {
     // off checkers. Seed 10733 at 3, whose fills on checkers are as good as
     // the rest, still fills on them.
     for (seed, on_checkers) in [(10835u64, false), (10733, true)] {
-        let text = lensray_host::convergence::with_point(&lensray_testkit::scenegen::generate_lens(seed), 3);
-        let scene = Scene::<I16F16>::parse(&text).unwrap();
+        let (text, scene) = gap_frame(seed, 3);
         let r = Renderer::new(&scene, 160, 120);
         assert!(r.gap_loose() > 0, "seed {seed}: the strict rule");
         assert_eq!(r.gap_checkers(), on_checkers, "seed {seed}");
@@ -810,8 +809,7 @@ fn a_checker_finer_than_the_gaps_is_not_filled_by_its_moire() {
     // Seed 10703 at `point` 2, 320x240: no rung leaves a pair a pixel, and
     // fills on checkers are not sound, so every gap fills off them (a ray a
     // pixel that casts): +1.9 dB where filling on them all was -6.8.
-    let text = lensray_host::convergence::with_point(&lensray_testkit::scenegen::generate_lens(10703), 2);
-    let scene = Scene::<I16F16>::parse(&text).unwrap();
+    let (text, scene) = gap_frame(10703, 2);
     let r = Renderer::new(&scene, 320, 240);
     assert_eq!((r.gap_loose(), r.gap_checkers()), (255, false));
     let truth = reference(&text, 320, 240, 512, Sampler::Stratified).unwrap();
@@ -821,7 +819,7 @@ fn a_checker_finer_than_the_gaps_is_not_filled_by_its_moire() {
     // every edge (107 levels² a fill; 1 at the rung below), and filled the
     // checker's moiré at 4 rays an anchor: -11.6 dB. Judged by the rung
     // below, it fills off checkers (-3.0 dB, still short at this size).
-    let scene = gap_frame(8800, 4);
+    let (_, scene) = gap_frame(8800, 4);
     let r = Renderer::new(&scene, 160, 120);
     assert!(r.gap_loose() > 0 && !r.gap_checkers(), "seed 8800 fills on checkers");
 }
@@ -839,9 +837,8 @@ fn a_gap_frame_stays_within_the_ray_budget_as_it_renders_not_as_surveyed() {
     // The check draws its pairs afresh: on the choosing passes' own pairs it
     // confirmed a share they had overstated by chance (seed 8662 at `point`
     // 9, 160x120, 70 pairs), and the frame cast 40.0 %, over by a hair.
-    let mut scene = Scene::<I16F16>::parse(&lensray_testkit::scenegen::generate_lens(8662)).unwrap();
-    (scene.camera.adaptive, scene.camera.sampler) = (true, Sampler::Stratified);
-    let r = Renderer::new_with_samples(&scene, 160, 120, Some(9));
+    let (_, scene) = gap_frame(8662, 9);
+    let r = Renderer::new(&scene, 160, 120);
     assert_eq!(r.gap_period(), 2);
     let rays = frame_rays(&r, 160, 120);
     assert!(
@@ -851,12 +848,13 @@ fn a_gap_frame_stays_within_the_ray_budget_as_it_renders_not_as_surveyed() {
     );
 }
 
-/// Generated scene `seed` at `point` as the campaign renders it (stratified, adaptive).
-fn gap_frame(seed: u64, point: u32) -> Scene<I16F16> {
+/// Generated scene `seed` at `point` as the campaign renders it (stratified,
+/// adaptive): its text, with that `point`, and the scene.
+fn gap_frame(seed: u64, point: u32) -> (String, Scene<I16F16>) {
     let text = lensray_host::convergence::with_point(&lensray_testkit::scenegen::generate_lens(seed), point);
     let mut scene = Scene::<I16F16>::parse(&text).unwrap();
     (scene.camera.adaptive, scene.camera.sampler) = (true, Sampler::Stratified);
-    scene
+    (text, scene)
 }
 
 #[test]
@@ -869,7 +867,7 @@ fn the_gap_check_takes_no_pair_for_its_own_rays_nor_drops_on_one_short_draw() {
     // strict rule ended under a pair; now only those whose check found a
     // shortfall do (2).
     let r = |seed: u64, point: u32, w: u32, h: u32| {
-        let scene = gap_frame(seed, point);
+        let (_, scene) = gap_frame(seed, point);
         let r = Renderer::new(&scene, w, h);
         (r.gap_period(), r.gap_loose(), r.gap_budget())
     };
