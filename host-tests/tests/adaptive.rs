@@ -622,6 +622,45 @@ fn an_unsettled_pixel_doubles_its_pilot_where_the_cap_allows() {
     );
 }
 
+/// Where the shares' sum leaves no room for the doubling (each share is a
+/// pixel's most), the survey renders its grid again with it and doubles if
+/// the frame then holds within 40 %, three deviations of the sum included:
+/// most unsettled pixels settle before their share. Seed 11260 at 320x240
+/// (`point` 46, a far checker's moiré) stopped unsettled pixels at the pilot
+/// of 8 with 4.7 times the error of 46 independent samples and missed the
+/// floor by 0.06 dB; it doubles by the measure and meets it. Over generated
+/// frames at 160x120 every measured frame stays within 40 %, survey
+/// included, and the measure goes both ways.
+#[test]
+fn the_doubling_is_measured_on_the_grid_where_the_shares_leave_no_room() {
+    let text = lensray_testkit::scenegen::generate_lens(11260);
+    let scene = Scene::<I16F16>::parse(&text).unwrap();
+    let r = Renderer::new(&scene, 320, 240);
+    assert!(r.doubling_measured() && r.doubling());
+    let truth = reference(&text, 320, 240, 1024, Sampler::Stratified).unwrap();
+    assert_eq!(judged_short(&text, &truth, 11260, scene.camera.samples), None);
+    let (mut doubled, mut not) = (0, 0);
+    for seed in 6000..6040u64 {
+        let scene = Scene::<I16F16>::parse(&lensray_testkit::scenegen::generate_lens(seed)).unwrap();
+        if scene.camera.radius == 0.0 || !scene.camera.adaptive || scene.camera.samples < ADAPTIVE_MIN_POINT {
+            continue;
+        }
+        let r = Renderer::new(&scene, 160, 120);
+        if !r.doubling_measured() {
+            continue;
+        }
+        (doubled, not) = (doubled + r.doubling() as u32, not + !r.doubling() as u32);
+        let rays = frame_rays(&r, 160, 120);
+        assert!(
+            rays * 5 <= 2 * scene.camera.samples as u64 * 160 * 120,
+            "seed {seed}: {:.2} rays of {}",
+            rays as f64 / (160.0 * 120.0),
+            scene.camera.samples
+        );
+    }
+    assert!(doubled > 0 && not > 0, "measured: {doubled} doubled, {not} not");
+}
+
 #[test]
 fn the_survey_sets_the_cap_from_the_frames_settled_share() {
     // A lens looking at nothing: every surveyed pixel settles at its pilot,
