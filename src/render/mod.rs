@@ -266,13 +266,16 @@ pub fn survey_stride(cols: u32, rows: u32, samples: u32) -> Option<u32> {
     Some(stride)
 }
 
-/// The pixel the adaptive survey takes in cell (`j`, `k`) (row, column) of
-/// its grid of spacing `s` (a power of two): at an offset hashed from the
-/// cell, not its centre, so that a pattern periodic in the image (a far
-/// checker's moiré) cannot put every spot on its bright or dark phase (seed
-/// 11260: the centres read 19.3 rays a pixel where the frame casts 16.7).
-pub fn survey_spot(j: u32, k: u32, s: u32) -> (u32, u32) {
-    let h = (j.wrapping_mul(0x9E37_79B9) ^ k.wrapping_mul(0x85EB_CA6B)).wrapping_mul(0xC2B2_AE35);
+/// The pixel a survey takes in cell (`j`, `k`) (row, column) of its grid of
+/// spacing `s` (a power of two) on draw `draw` (0 but for the gap survey's
+/// checks): at an offset hashed from the cell, not its centre, so that a
+/// pattern periodic in the image (a far checker's moiré) cannot put every
+/// spot on its bright or dark phase (seed 11260: the centres read 19.3 rays
+/// a pixel where the frame casts 16.7).
+pub fn survey_spot(j: u32, k: u32, s: u32, draw: u32) -> (u32, u32) {
+    debug_assert!(s.is_power_of_two());
+    let h = (j.wrapping_mul(0x9E37_79B9) ^ k.wrapping_mul(0x85EB_CA6B) ^ draw.wrapping_mul(0x27D4_EB2F))
+        .wrapping_mul(0xC2B2_AE35);
     (k * s + (h >> 20 & (s - 1)), j * s + (h >> 8 & (s - 1)))
 }
 
@@ -482,7 +485,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         ) else {
             return self;
         };
-        let grid = |s: u32| (0..rows / s).flat_map(move |j| (0..cols / s).map(move |k| survey_spot(j, k, s)));
+        let grid = |s: u32| (0..rows / s).flat_map(move |j| (0..cols / s).map(move |k| survey_spot(j, k, s, 0)));
         let pilot = |x, y| {
             if self.bright.at_risk(x, y) {
                 adaptive_risk_pilot(self.samples)
@@ -893,10 +896,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 if draw > 0 && (j + k + draw).is_multiple_of(2) {
                     continue;
                 }
-                let h = (j.wrapping_mul(0x9E37_79B9) ^ k.wrapping_mul(0x85EB_CA6B) ^ draw.wrapping_mul(0x27D4_EB2F))
-                    .wrapping_mul(0xC2B2_AE35);
-                let y = j * s + (h >> 8) % s;
-                let x = k * s + (h >> 20) % s;
+                let (x, y) = survey_spot(j, k, s, draw);
                 // The anchor at or after x, and the next.
                 let x = x + (gap_phase(y, period) + period - x % period) % period;
                 if x + period < cols {
@@ -1692,7 +1692,7 @@ mod survey_tests {
             let mut offsets = [[0u32; 16]; 2];
             for j in 0..30 {
                 for k in 0..40 {
-                    let (x, y) = survey_spot(j, k, s);
+                    let (x, y) = survey_spot(j, k, s, 0);
                     assert_eq!((x / s, y / s), (k, j), "stride {s}");
                     offsets[0][(x % s) as usize] += 1;
                     offsets[1][(y % s) as usize] += 1;
