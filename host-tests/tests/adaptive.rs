@@ -529,39 +529,42 @@ fn a_lamps_footprint_holds_every_pixel_it_reaches() {
 
 #[test]
 fn the_dithered_cap_is_a_power_of_two_and_keeps_the_mean_within_the_cap() {
-    // Over each 4x4 tile: the power of two below the cap or twice it, with a
-    // mean at most the cap and within a sixteenth of that power below it.
+    // Over each 8x8 tile: the power of two below the cap or twice it, with a
+    // mean at most the cap and within a 64th of that power below it.
     for cap in 1..=300u32 {
         let low = 1u32 << (31 - cap.leading_zeros());
-        let takes: Vec<u32> = (0..16).map(|i| dithered_cap(cap, 5 + i % 4, 2 + i / 4)).collect();
-        assert!(takes.iter().all(|&n| n == low || n == 2 * low), "cap {cap}: {takes:?}");
-        let sum: u32 = takes.iter().sum();
-        assert!(sum <= 16 * cap, "cap {cap}: mean {} above", sum as f64 / 16.0);
-        assert!(sum + low > 16 * cap, "cap {cap}: mean {} too low", sum as f64 / 16.0);
+        for (c0, r0) in [(0, 0), (5, 2), (3, 7)] {
+            let takes: Vec<u32> = (0..64).map(|i| dithered_cap(cap, c0 + i % 8, r0 + i / 8)).collect();
+            assert!(takes.iter().all(|&n| n == low || n == 2 * low), "cap {cap}: {takes:?}");
+            let sum: u32 = takes.iter().sum();
+            assert!(sum <= 64 * cap, "cap {cap}: mean {} above", sum as f64 / 64.0);
+            assert!(sum + low > 64 * cap, "cap {cap}: mean {} too low", sum as f64 / 64.0);
+        }
     }
 }
 
 #[test]
 fn the_dithered_budget_is_forty_percent_of_point_in_powers_of_two() {
-    // Over each 4x4 tile: the power of two below 40 % of `samples` or twice
-    // it, a mean at most 40 % and within a sixteenth of that power below it
-    // (rounding 40 % down first left `point` 7 at 2 rays, 29 %).
+    // Over each 8x8 tile: the power of two below 40 % of `samples` or twice
+    // it, a mean at most 40 % and within a 64th of that power below it
+    // (rounding 40 % down first left `point` 7 at 2 rays, 29 %; a 4x4
+    // tile's sixteenths left `point` 5 at a budget of 2.6 rays 2.5).
     for samples in 3..=300u32 {
         let low = 1u32 << (31 - (2 * samples / 5).leading_zeros());
-        let takes: Vec<u32> = (0..16)
-            .map(|i| dithered_budget(samples, 1 + i % 4, 6 + i / 4))
+        let takes: Vec<u32> = (0..64)
+            .map(|i| dithered_budget(samples, 1 + i % 8, 6 + i / 8))
             .collect();
         assert!(takes.iter().all(|&n| n == low || n == 2 * low), "{samples}: {takes:?}");
         let sum: u32 = takes.iter().sum();
         assert!(
-            5 * sum <= 32 * samples,
+            5 * sum <= 128 * samples,
             "{samples}: mean {} above 40 %",
-            sum as f64 / 16.0
+            sum as f64 / 64.0
         );
         assert!(
-            5 * (sum + low) > 32 * samples,
+            5 * (sum + low) > 128 * samples,
             "{samples}: mean {} too low",
-            sum as f64 / 16.0
+            sum as f64 / 64.0
         );
     }
 }
