@@ -72,6 +72,27 @@ fn a_camera_on_the_floor_meets_both_floors() {
     floors_hold_on("camera-on-the-floor.scene", &text, 96, 72);
 }
 
+/// Scenes written by hand outside the generator's range (host-tests/extra-scenes/hand-*:
+/// a macro lens with lamps behind, a tilted camera with shadows and a hexagon,
+/// a dark foreground on a bright background, 6 rays through a wide
+/// pentagon, focus very near, a row of lamps, a grazing floor, `point` 300):
+/// both floors on each.
+#[test]
+fn the_hand_written_scenes_meet_both_floors() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("extra-scenes");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with("hand-") && n.ends_with(".scene"))
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 8, "{names:?}");
+    for name in names {
+        let text = std::fs::read_to_string(dir.join(&name)).unwrap();
+        floors_hold_on(&name, &text, 96, 72);
+    }
+}
+
 #[test]
 fn program1_default_render_beats_independent_with_40_percent_of_the_rays() {
     floors_hold("paper-program1.scene", 96, 72);
