@@ -685,6 +685,55 @@ fn the_doubling_is_measured_on_the_grid_where_the_shares_leave_no_room() {
     assert!(doubled > 0 && not > 0, "measured: {doubled} doubled, {not} not");
 }
 
+/// The shares spend the cap: seed 11287 (`point` 27, 320x240, lamps'
+/// footprints everywhere) had a cap of 10 rays an unsettled pixel, but its
+/// spreads' long tail (lamps' rims) stopped shares at `point` and most
+/// unsettled pixels' shares rounded to the pilot: they took 9.6, the frame
+/// 35.5 % of `point`, +0.01 dB over the floor. With the mean spread lowered
+/// until the grid's shares average the cap, 37.0 % and +0.20 dB. Over
+/// generated frames at 160x120 every lowered frame stays within 40 %,
+/// survey included.
+#[test]
+fn the_shares_spend_the_cap_where_a_long_tail_of_spreads_stops_them_at_point() {
+    let text = lensray_testkit::scenegen::generate_lens(11287);
+    let scene = Scene::<I16F16>::parse(&text).unwrap();
+    let point = scene.camera.samples;
+    let r = Renderer::new(&scene, 320, 240);
+    assert!(r.shares_lowered() && r.adaptive_cap().0 < point);
+    let rays = frame_rays(&r, 320, 240);
+    // Within 40 %, and above 36.5 % (35.5 % with the mean spread as surveyed).
+    assert!(rays * 5 <= 2 * point as u64 * 320 * 240, "{rays} rays");
+    assert!(rays * 200 >= 73 * point as u64 * 320 * 240, "{rays} rays");
+    let truth = reference(&text, 320, 240, 1024, Sampler::Stratified).unwrap();
+    let independent = measure(&text, &truth, Setting::independent(point)).unwrap();
+    let default = measure(&text, &truth, Setting::default_render(point)).unwrap();
+    // The floor with room to spare: +0.20 dB (+0.01 before).
+    assert!(
+        default.psnr >= independent.psnr + 0.1,
+        "{:.2} dB against {:.2}",
+        default.psnr,
+        independent.psnr
+    );
+    let lowered = (6000..6060u64)
+        .filter(|&seed| {
+            let scene = Scene::<I16F16>::parse(&lensray_testkit::scenegen::generate_lens(seed)).unwrap();
+            let r = Renderer::new(&scene, 160, 120);
+            if !r.shares_lowered() {
+                return false;
+            }
+            let rays = frame_rays(&r, 160, 120);
+            assert!(
+                rays * 5 <= 2 * scene.camera.samples as u64 * 160 * 120,
+                "seed {seed}: {:.2} rays of {}",
+                rays as f64 / (160.0 * 120.0),
+                scene.camera.samples
+            );
+            true
+        })
+        .count();
+    assert!(lowered >= 5, "{lowered} frames lowered their mean spread");
+}
+
 #[test]
 fn the_survey_sets_the_cap_from_the_frames_settled_share() {
     // A lens looking at nothing: every surveyed pixel settles at its pilot,
@@ -859,9 +908,12 @@ fn a_checker_finer_than_the_gaps_is_not_filled_by_its_moire() {
     // colour of it: -4.4 dB against `point` independent samples at 160x120.
     // The survey renders the middle of the pairs the loose rule may fill and
     // finds its fills on checkers far worse than those off them: it fills
-    // off checkers. Seed 10733 at 3, whose fills on checkers are as good as
-    // the rest, still fills on them.
-    for (seed, on_checkers) in [(10835u64, false), (10733, true)] {
+    // off checkers. Seed 10730 at 3, whose fills on checkers are as good as
+    // the rest, still fills on them. (10733, the example here before the
+    // 8x8 dither moved its anchors' rays, now finds its fills on checkers
+    // unsound by a hair and fills off them: -0.58 dB at 160x120, +3.37 at
+    // 320x240.)
+    for (seed, on_checkers) in [(10835u64, false), (10730, true)] {
         let (text, scene) = gap_frame(seed, 3);
         let r = Renderer::new(&scene, 160, 120);
         assert!(r.gap_loose() > 0, "seed {seed}: the strict rule");
