@@ -679,48 +679,6 @@ fn the_doubling_is_measured_on_the_grid_where_the_shares_leave_no_room() {
     assert!(doubled > 0 && not > 0, "measured: {doubled} doubled, {not} not");
 }
 
-/// The shares spend the cap: seed 11287 (`point` 27, 320x240, lamps'
-/// footprints everywhere) had a cap of 10 rays an unsettled pixel, but its
-/// spreads' long tail (lamps' rims) stopped shares at `point` and most
-/// unsettled pixels' shares rounded to the pilot: they took 9.6, the frame
-/// 35.5 % of `point`, +0.01 dB over the floor. With the mean spread lowered
-/// until the grid's shares average the cap, 37.0 % and +0.20 dB. Over
-/// generated frames at 160x120 every lowered frame stays within 40 %,
-/// survey included.
-#[test]
-fn the_shares_spend_the_cap_where_a_long_tail_of_spreads_stops_them_at_point() {
-    let text = lensray_testkit::scenegen::generate_lens(11287);
-    let scene = Scene::<I16F16>::parse(&text).unwrap();
-    let point = scene.camera.samples;
-    let r = Renderer::new(&scene, 320, 240);
-    assert!(r.shares_lowered() && r.adaptive_cap().0 < point);
-    let rays = frame_rays(&r, 320, 240);
-    // Within 40 %, and above 36.5 % (35.5 % with the mean spread as surveyed).
-    assert!(rays * 5 <= 2 * point as u64 * 320 * 240, "{rays} rays");
-    assert!(rays * 200 >= 73 * point as u64 * 320 * 240, "{rays} rays");
-    let truth = reference(&text, 320, 240, 1024, Sampler::Stratified).unwrap();
-    let independent = measure(&text, &truth, Setting::independent(point)).unwrap();
-    let default = measure(&text, &truth, Setting::default_render(point)).unwrap();
-    // The floor with room to spare: +0.20 dB (+0.01 before).
-    assert!(
-        default.psnr >= independent.psnr + 0.1,
-        "{:.2} dB against {:.2}",
-        default.psnr,
-        independent.psnr
-    );
-    let lowered = (6000..6060u64)
-        .filter(|&seed| {
-            let scene = Scene::<I16F16>::parse(&lensray_testkit::scenegen::generate_lens(seed)).unwrap();
-            let r = Renderer::new(&scene, 160, 120);
-            if r.shares_lowered() {
-                assert_within_budget(&r, seed, 160, 120);
-            }
-            r.shares_lowered()
-        })
-        .count();
-    assert!(lowered >= 5, "{lowered} frames lowered their mean spread");
-}
-
 #[test]
 fn the_survey_sets_the_cap_from_the_frames_settled_share() {
     // A lens looking at nothing: every surveyed pixel settles at its pilot,

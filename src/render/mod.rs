@@ -241,33 +241,6 @@ fn dithered_ratio(num: u32, den: u32, col: u32, row: u32) -> u32 {
     }
 }
 
-/// The share of an unsettled pixel of pilot `pilot` and spread `spread`
-/// where the frame's cap is `most` and its mean spread `mean`: the pilot
-/// and the cap's rays beyond it times `spread / mean`, at most `samples`
-/// (see [`Renderer::share`]), doubling the pilot at least where `doubling`.
-#[inline]
-fn spread_share(most: u32, pilot: u32, spread: u32, mean: u32, samples: u32, doubling: bool) -> u32 {
-    // In u32, saturating (lamps' spreads): the micro:bit's flash. No
-    // survey spread: the frame's cap.
-    let own = match most.saturating_sub(pilot).saturating_mul(spread).checked_div(mean) {
-        Some(extra) => pilot.saturating_add(extra).min(samples),
-        None => most.max(pilot),
-    };
-    // At least one doubling where the cap allows: a spread far under the
-    // frame's mean (lamps' rims raise it) is no sign of a settled mean
-    // (seed 9027: such pixels stopped at 4 of 14 with 7 times the error).
-    if !cfg!(feature = "no-spare-floor") && doubling && most >= 2 * pilot {
-        own.max(2 * pilot)
-    } else {
-        own
-    }
-}
-
-/// The fewest unsettled pixels a survey's grid must see to lower the mean
-/// spread the shares divide by (see [`Renderer::surveyed`]): a 320×240
-/// frame's grid has 1,200 cells, a 160×120 frame's 300.
-pub const SHARES_MIN_SEEN: u64 = 256;
-
 /// The fewest pixels a survey takes: below it (images under about 32×32)
 /// its estimate of the frame's unsettled share is too coarse, and
 /// unsettled pixels stop at [`adaptive_limit`].
@@ -638,46 +611,6 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             }
         }
         self.rules = (doubling as u32) << 16 | (measured as u32) << 19;
-        // The shares spend the cap: a pixel's share is the pilot and the
-        // cap's rays beyond it times its spread over the mean spread σ̄, so
-        // that the shares average C; but a share stops at `point` and rounds
-        // down, and where the spreads have a long tail (lamps' rims) the
-        // shares of the rest fall short of C (seed 11287, `point` 27, lamps
-        // everywhere: C = 10, the unsettled pixels took 9.6, +0.01 dB over
-        // the floor). σ̄ is lowered as far as the grid's shares, in the
-        // doubling's sum (half-octaves' middles), still average C at most:
-        // 10.0 and +0.20 dB. C itself, not what its rounding down left
-        // (averaging that, seeds 11163 and 11175 cast 40.3 and 40.8 %). Only
-        // where the grid saw 256 unsettled pixels or more: a smaller sample
-        // of spreads left no margin (seed 6001 at `point` 13, 80x60, 70
-        // cells: 41.7 %).
-        if !cfg!(feature = "no-spare-floor") && self.cap < self.samples && seen >= SHARES_MIN_SEEN {
-            let pilots = [adaptive_pilot(self.samples), adaptive_risk_pilot(self.samples)];
-            let fits = |mean: u32| {
-                let mut sum = 0u64;
-                for (k, row) in by_spread.iter().enumerate() {
-                    for (b, &n) in row.iter().enumerate() {
-                        let mid = ((1u64 << (b / 2)) * (5 + 2 * (b & 1) as u64) / 4) as u32;
-                        sum += n as u64 * spread_share(self.cap, pilots[k], mid, mean, samples, doubling) as u64;
-                    }
-                }
-                sum <= self.cap as u64 * seen
-            };
-            if fits(self.spread) {
-                // The least mean spread, 1 or more, whose shares fit.
-                let (mut lo, mut hi) = (1u32, self.spread);
-                while lo < hi {
-                    let mid = lo + (hi - lo) / 2;
-                    if fits(mid) {
-                        hi = mid;
-                    } else {
-                        lo = mid + 1;
-                    }
-                }
-                self.rules |= ((hi < self.spread) as u32) << 20;
-                self.spread = hi;
-            }
-        }
         // Rays the unsettled pixels leave go to the pixels settled at the
         // plain pilot, as a floor (seeds 1042, 8232 cast 21 and 18 % of
         // `point` and missed by stopping early).
@@ -1092,13 +1025,6 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     #[doc(hidden)]
     pub fn doubling_measured(&self) -> bool {
         self.rules >> 19 & 1 != 0
-    }
-
-    /// Whether the survey lowered the mean spread the shares divide by, so
-    /// that their sum spends the cap (diagnosis and tests).
-    #[doc(hidden)]
-    pub fn shares_lowered(&self) -> bool {
-        self.rules >> 20 & 1 != 0
     }
 
     /// Whether a pixel that casts with gaps (`point` 3 to 9) goes on from
@@ -1567,7 +1493,24 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// [`Renderer::share`] before its dither, doubling or not (the survey
     /// sums it to decide [`Renderer::doubling`]).
     fn own_share(&self, most: u32, pilot: u32, spread: u32, doubling: bool) -> u32 {
-        spread_share(most, pilot, spread, self.spread, self.samples, doubling)
+        // In u32, saturating (lamps' spreads): the micro:bit's flash. No
+        // survey spread: the frame's cap.
+        let own = match most
+            .saturating_sub(pilot)
+            .saturating_mul(spread)
+            .checked_div(self.spread)
+        {
+            Some(extra) => pilot.saturating_add(extra).min(self.samples),
+            None => most.max(pilot),
+        };
+        // At least one doubling where the cap allows: a spread far under the
+        // frame's mean (lamps' rims raise it) is no sign of a settled mean
+        // (seed 9027: such pixels stopped at 4 of 14 with 7 times the error).
+        if !cfg!(feature = "no-spare-floor") && doubling && most >= 2 * pilot {
+            own.max(2 * pilot)
+        } else {
+            own
+        }
     }
 
     /// The plane that cuts this lens, if one does (see [`cut`]).
