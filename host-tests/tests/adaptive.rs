@@ -568,8 +568,7 @@ fn the_dithered_cap_is_a_power_of_two_and_keeps_the_mean_within_the_cap() {
 fn the_dithered_budget_is_forty_percent_of_point_in_powers_of_two() {
     // Over each 8x8 tile: the power of two below 40 % of `samples` or twice
     // it, a mean at most 40 % and within a 64th of that power below it
-    // (rounding 40 % down first left `point` 7 at 2 rays, 29 %; a 4x4
-    // tile's sixteenths left `point` 5 at a budget of 2.6 rays 2.5).
+    // (rounding 40 % down first left `point` 7 at 2 rays, 29 %).
     for samples in 3..=300u32 {
         let low = 1u32 << (31 - (2 * samples / 5).leading_zeros());
         let takes: Vec<u32> = (0..64)
@@ -782,9 +781,11 @@ fn assert_within_budget(r: &Renderer<'_, I16F16>, seed: u64, w: u32, h: u32) {
     let rays = frame_rays(r, w, h);
     assert!(
         rays * 5 <= 2 * r.samples() as u64 * (w * h) as u64,
-        "seed {seed}: {:.2} rays of {}",
+        "seed {seed}: {:.2} rays of {} (gap period {}, loose {})",
         rays as f64 / (w * h) as f64,
-        r.samples()
+        r.samples(),
+        r.gap_period(),
+        r.gap_loose()
     );
 }
 
@@ -811,13 +812,7 @@ fn generated_lens_frames_stay_within_the_ray_budget_survey_included() {
         }
         judged += 1;
         small += (point < ADAPTIVE_EIGHT_POINT) as u32;
-        let r = Renderer::new(&scene, w, h);
-        let rays = frame_rays(&r, w, h);
-        assert!(
-            rays * 5 <= 2 * point as u64 * (w * h) as u64,
-            "seed {seed}: {:.1} % of point",
-            100.0 * rays as f64 / (w * h) as f64 / point as f64
-        );
+        assert_within_budget(&Renderer::new(&scene, w, h), seed, w, h);
     }
     assert!(
         judged >= 70 && small >= 12,
@@ -836,13 +831,7 @@ fn frames_within_budget(seeds: std::ops::Range<u64>, points: std::ops::RangeIncl
             continue;
         }
         for point in points.clone() {
-            let r = Renderer::new_with_samples(&scene, w, h, Some(point));
-            let rays = frame_rays(&r, w, h);
-            assert!(
-                rays * 5 <= 2 * point as u64 * (w * h) as u64,
-                "seed {seed} at point {point}: {:.2} % of point",
-                100.0 * rays as f64 / (w * h) as f64 / point as f64
-            );
+            assert_within_budget(&Renderer::new_with_samples(&scene, w, h, Some(point)), seed, w, h);
             frames += 1;
         }
     }
@@ -912,12 +901,7 @@ fn a_gap_frame_stays_within_the_ray_budget_as_it_renders_not_as_surveyed() {
     let (_, scene) = gap_frame(8662, 9);
     let r = Renderer::new(&scene, 160, 120);
     assert_eq!(r.gap_period(), 2);
-    let rays = frame_rays(&r, 160, 120);
-    assert!(
-        rays * 5 <= 2 * 9 * 160 * 120,
-        "seed 8662: {:.2} rays a pixel",
-        rays as f64 / 19200.0
-    );
+    assert_within_budget(&r, 8662, 160, 120);
 }
 
 /// Generated scene `seed` at `point` as the campaign renders it (stratified,
@@ -990,13 +974,7 @@ fn gaps_bring_one_and_two_samples_within_the_ray_budget_on_every_frame() {
                 continue;
             }
             assert!((2..=4).contains(&r.gap_period()), "seed {seed} point {point}: no gaps");
-            let rays = frame_rays(&r, 160, 120);
-            assert!(
-                rays * 5 <= 2 * point as u64 * 19_200,
-                "seed {seed} point {point}: {rays} rays, period {} loose {}",
-                r.gap_period(),
-                r.gap_loose()
-            );
+            assert_within_budget(&r, seed, 160, 120);
             loose += (r.gap_loose() > 0) as u32;
             frames += 1;
         }
@@ -1028,11 +1006,7 @@ fn a_pixel_whose_rays_are_wide_at_its_budget_takes_every_sample() {
                 continue;
             }
             frames += 1;
-            let rays = frame_rays(&r, 80, 60);
-            assert!(
-                rays * 5 <= 2 * point as u64 * 4800,
-                "seed {seed} point {point}: {rays} rays"
-            );
+            assert_within_budget(&r, seed, 80, 60);
             if !r.extends() {
                 continue;
             }
