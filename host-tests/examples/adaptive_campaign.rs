@@ -39,14 +39,26 @@ fn arg(i: usize, default: u64) -> u64 {
 /// `LENSRAY_CAMPAIGN_POINTS=LO-HI`: every seed rendered again at each `point`
 /// from LO to HI (its own `point` line replaced; the reference does not
 /// depend on it), and a summary a `point`: the floors below 20 on many scenes.
+/// With `LENSRAY_CAMPAIGN_SCENES`, those files (their lens scenes) instead of
+/// the seeds, numbered from 0 in the order given: a scene prototyped at one
+/// `point` and flashed at another.
+/// `LENSRAY_CAMPAIGN_POINTS=LO-HI:STEP` steps `point` by STEP (default 1).
 /// `LENSRAY_CAMPAIGN_VERBOSE=1`: every seed's margin and share too.
-fn sweep(first: u64, count: u64, w: u32, h: u32, ref_n: u32, lo: u32, hi: u32) {
-    for p in lo..=hi {
+fn sweep(first: u64, count: u64, w: u32, h: u32, ref_n: u32, points: impl Iterator<Item = u32>, files: &[String]) {
+    let seeds: Vec<u64> = if files.is_empty() {
+        (first..first + count).collect()
+    } else {
+        (0..files.len() as u64).collect()
+    };
+    for p in points {
         let (mut met, mut flat_met, mut n) = (0, 0, 0);
         let (mut worst_share, mut worst_margin, mut share_sum): (f64, f64, f64) = (0.0, f64::INFINITY, 0.0);
         let mut short = Vec::new();
-        for seed in first..first + count {
-            let generated = lensray_testkit::scenegen::generate_lens(seed);
+        for &seed in &seeds {
+            let generated = match files.get(seed as usize) {
+                Some(f) => std::fs::read_to_string(f).unwrap(),
+                None => lensray_testkit::scenegen::generate_lens(seed),
+            };
             let scene = Scene::<I16F16>::parse(&generated).unwrap();
             if scene.camera.radius == 0.0 {
                 continue;
@@ -89,17 +101,19 @@ fn sweep(first: u64, count: u64, w: u32, h: u32, ref_n: u32, lo: u32, hi: u32) {
 fn main() {
     let (first, count, w, ref_n) = (arg(1, 1), arg(2, 40), arg(3, 160) as u32, arg(4, 1024) as u32);
     let h = w * 3 / 4;
-    if let Ok(range) = std::env::var("LENSRAY_CAMPAIGN_POINTS") {
-        let (lo, hi) = range.split_once('-').expect("LENSRAY_CAMPAIGN_POINTS=LO-HI");
-        sweep(first, count, w, h, ref_n, lo.parse().unwrap(), hi.parse().unwrap());
-        return;
-    }
-    // [all judged seeds, those of `point` below 20]: judged, met, share sum, worst share, worst margin.
-    let mut tally = [(0u32, 0u32, 0.0f64, 0.0f64, f64::INFINITY); 2];
     // LENSRAY_CAMPAIGN_SCENES: scene files measured instead of generated ones.
     let files: Vec<String> = std::env::var("LENSRAY_CAMPAIGN_SCENES")
         .map(|v| v.split(',').map(str::to_string).collect())
         .unwrap_or_default();
+    if let Ok(range) = std::env::var("LENSRAY_CAMPAIGN_POINTS") {
+        let (range, step) = range.split_once(':').unwrap_or((&range, "1"));
+        let (lo, hi) = range.split_once('-').expect("LENSRAY_CAMPAIGN_POINTS=LO-HI[:STEP]");
+        let (lo, hi, step): (u32, u32, usize) = (lo.parse().unwrap(), hi.parse().unwrap(), step.parse().unwrap());
+        sweep(first, count, w, h, ref_n, (lo..=hi).step_by(step.max(1)), &files);
+        return;
+    }
+    // [all judged seeds, those of `point` below 20]: judged, met, share sum, worst share, worst margin.
+    let mut tally = [(0u32, 0u32, 0.0f64, 0.0f64, f64::INFINITY); 2];
     let seeds: Vec<u64> = if files.is_empty() {
         (first..first + count).collect()
     } else {

@@ -7,8 +7,8 @@
 //! --example adaptive_campaign`).
 
 use lensray::unstable::render::{
-    adaptive_limit, adaptive_pilot, adaptive_risk_pilot, dithered_budget, dithered_cap, survey_stride,
-    ADAPTIVE_BUDGET_POINT, ADAPTIVE_EIGHT_POINT, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT,
+    adaptive_limit, adaptive_pilot, adaptive_raised_pilot, adaptive_risk_pilot, dithered_budget, dithered_cap,
+    survey_stride, ADAPTIVE_BUDGET_POINT, ADAPTIVE_EIGHT_POINT, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT,
     ADAPTIVE_SMALL_PILOT, GAP_PAIR, SURVEY_MAX_RAYS, SURVEY_MIN_PIXELS,
 };
 use lensray::unstable::sampler::Sampler;
@@ -108,6 +108,29 @@ fn bright_bokeh_default_render_beats_independent_with_40_percent_of_the_rays() {
     // Lamps 15 times brighter than white, far out of focus, seen through part
     // of a hexagonal lens: what a pilot that stops early gets wrong.
     floors_hold("camera-features.scene", 96, 72);
+}
+
+/// `camera-features` flashed at a smaller `point` than its 320: at 63 and 73
+/// the risk pilot held within the budget (16) sees its lamps' footprints
+/// (about a twentieth of the lens) in under one stratum, and the bokeh's
+/// pixels that miss them all stop dark at their pilot (-2.1 and -2.6 dB
+/// against the floor at 320x240). A fifth of the frame in footprints leaves
+/// the room for the raised pilot (32): both floors on each.
+#[test]
+fn camera_features_at_a_smaller_point_takes_the_raised_pilot_and_meets_both_floors() {
+    for point in [63, 73] {
+        let text = lensray_host::convergence::with_point(&scene_text("camera-features.scene"), point);
+        let scene = Scene::<I16F16>::parse(&text).unwrap();
+        let r = Renderer::new(&scene, 96, 72);
+        assert!(r.raised_pilots(), "point {point}");
+        let lamp = (0..72)
+            .flat_map(|y| (0..96).map(move |x| (x, y)))
+            .find(|&(x, y)| r.bright_footprints().at_risk(x, y))
+            .unwrap();
+        assert_eq!(r.pilot(lamp.0, lamp.1), adaptive_raised_pilot(point));
+        assert!(adaptive_raised_pilot(point) > adaptive_risk_pilot(point));
+        floors_hold_on(&format!("camera-features at point {point}"), &text, 96, 72);
+    }
 }
 
 /// Seeds of generated lens scenes: `LENSRAY_SEEDS` (comma-separated), else
@@ -616,11 +639,7 @@ fn an_unsettled_pixel_doubles_its_pilot_where_the_cap_allows() {
         without += !r.doubling() as u32;
         for y in 0..60 {
             for x in 0..80 {
-                let pilot = if r.bright_footprints().at_risk(x, y) {
-                    adaptive_risk_pilot(scene.camera.samples)
-                } else {
-                    adaptive_pilot(scene.camera.samples)
-                };
+                let pilot = r.pilot(x, y);
                 let (_, n, spread) = r.pixel_rays_spread(x, y);
                 if spread != 0 && cap >= 2 * pilot && r.doubling() {
                     assert!(
