@@ -866,6 +866,50 @@ fn small_point_frames_stay_within_the_ray_budget_at_every_point() {
     assert!(frames >= 15 * 18, "only {frames} frames");
 }
 
+/// Frames mostly in lamps' footprints, at `point`s where the lamps' pilot
+/// is 40 % of `point` or half the plain one's budget (20, 40, 80, 160) and
+/// between: the pilots with the survey's rays, and the unsettled lamps'
+/// pixels at their pilot above the cap, stay within 40 %. `hand-near-focus`
+/// at 80 (three quarters of it in footprints, pilot 32) cast 40.5 %: the
+/// survey counted its pilots alone against the budget, then added its own
+/// rays, and gave the unsettled pixels a cap below the lamps' pilot that
+/// those pixels did not keep to.
+#[test]
+fn frames_full_of_lamps_footprints_stay_within_the_ray_budget() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("extra-scenes");
+    let mut frames = 0;
+    for name in [
+        "hand-near-focus.scene",
+        "hand-lamp-grid.scene",
+        "hand-macro-bokeh.scene",
+    ] {
+        let text = std::fs::read_to_string(dir.join(name)).unwrap();
+        let scene = Scene::<I16F16>::parse(&text).unwrap();
+        for point in [20, 40, 63, 80, 100, 160] {
+            assert_within_budget(
+                &Renderer::new_with_samples(&scene, 96, 72, Some(point)),
+                point as u64,
+                96,
+                72,
+            );
+            frames += 1;
+        }
+    }
+    let scene = Scene::<I16F16>::parse(&scene_text("camera-features.scene")).unwrap();
+    for point in [20, 40, 63, 80, 160] {
+        assert_within_budget(
+            &Renderer::new_with_samples(&scene, 96, 72, Some(point)),
+            point as u64,
+            96,
+            72,
+        );
+        frames += 1;
+    }
+    // Generated frames at the same `point`s (lamps' footprints or not).
+    frames += frames_within_budget(500..520, 40..=40, 64, 48) + frames_within_budget(500..520, 80..=80, 64, 48);
+    assert!(frames >= 40, "only {frames} frames");
+}
+
 #[test]
 fn a_checker_finer_than_the_gaps_is_not_filled_by_its_moire() {
     // Seed 10835 (`point` 3): a checker finer than the pixels, in focus. The

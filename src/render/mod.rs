@@ -540,14 +540,21 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // where they left a fifth, `point` 21 to 25 spent none of what the
         // pilots left (seed 9009, `point` 22: every pixel at 8, -0.56 dB
         // against `point` independent samples; surveyed, +2.37).
-        let full = 5 * pilots >= 2 * self.samples as u64 * count;
+        // With the survey's own rays, the grid's pilots again over s² (a
+        // frame of lamps' footprints whose pilot is 40 % of `point` cast 40.5 %).
+        let survey = if cfg!(feature = "no-spare-floor") {
+            0
+        } else {
+            pilots.div_ceil(s as u64 * s as u64)
+        };
+        let full = 5 * (pilots + survey) >= 2 * self.samples as u64 * count;
         if full {
             return self;
         }
         #[cfg(test)]
         SURVEYS.with(|n| n.set(n.get() + 1));
         let (mut settled_pilots, mut unsettled, mut rays, mut spreads) = (0u64, 0u64, 0u64, 0u64);
-        let mut plain_settled = 0u64;
+        let (mut plain_settled, mut risky_unsettled) = (0u64, 0u64);
         // The unsettled pixels by spread, for the doubling they take (see [`Renderer::share`]).
         let mut by_spread = [[0u16; 64]; 2];
         for (x, y) in grid(s) {
@@ -560,6 +567,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 plain_settled += (pilot == adaptive_pilot(self.samples)) as u64;
             } else {
                 unsettled += 1;
+                risky_unsettled += (pilot != adaptive_pilot(self.samples)) as u64;
                 spreads += spread as u64;
                 if !cfg!(feature = "no-spare-floor") {
                     // Half-octaves of spread, plain and raised pilots apart.
@@ -583,11 +591,22 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let budget_after =
             |rays: u64| (2 * self.samples as u128 * pixels).saturating_sub(5 * rays as u128) * count as u128;
         let budget = budget_after(rays);
-        let spent = 5 * settled_pilots as u128 * pixels;
-        let samples = self.samples;
+        let mut spent = 5 * settled_pilots as u128 * pixels;
+        // An unsettled pixel takes at least its pilot: where C would fall
+        // below the lamps' pilot, those pixels are spent at it and the others
+        // share the rest under it (hand-near-focus at `point` 80, three
+        // quarters of it in lamps' footprints, cast 40.5 %).
+        let (mut sharing, mut most, mut seen_sharing) = (unsettled, self.samples, seen);
+        if !cfg!(feature = "no-spare-floor") && risky_unsettled > 0 {
+            let risk_pilot = self.risk_pilot();
+            if budget.saturating_sub(spent) < 5 * unsettled as u128 * pixels * risk_pilot as u128 {
+                spent += 5 * (risky_unsettled * risk_pilot as u64) as u128 * pixels;
+                (sharing, most, seen_sharing) = (unsettled - risky_unsettled, risk_pilot - 1, seen - risky_unsettled);
+            }
+        }
         let cap_after = |rays: u64| match budget_after(rays).checked_sub(spent) {
-            _ if unsettled == 0 => samples,
-            Some(left) => (left / (5 * unsettled as u128 * pixels)).min(samples as u128) as u32,
+            _ if sharing == 0 => most,
+            Some(left) => (left / (5 * sharing as u128 * pixels)).min(most as u128) as u32,
             None => 0,
         };
         self.cap = cap_after(rays);
@@ -603,7 +622,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             // shares stopped at `point` leave (lamps' rims), not others'.
             let pilots = [adaptive_pilot(self.samples), self.risk_pilot()];
             let mut sum = 0u64;
-            for (k, row) in by_spread.iter().enumerate() {
+            // Lamps' pixels spent at their pilot above are not summed again.
+            let kinds = if most < self.samples { 1 } else { 2 };
+            for (k, row) in by_spread.iter().enumerate().take(kinds) {
                 for (b, &n) in row.iter().enumerate() {
                     // The half-octave's middle: 1.25 or 1.75 times 2^(b/2) (under 2^32).
                     let mid = ((1u64 << (b / 2)) * (5 + 2 * (b & 1) as u64) / 4) as u32;
@@ -612,7 +633,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             }
             // sum / seen <= left / (5 U N).
             let left = budget.saturating_sub(spent);
-            doubling = sum as u128 * 5 * unsettled as u128 * pixels <= left * seen as u128;
+            doubling = sum as u128 * 5 * sharing as u128 * pixels <= left * seen_sharing as u128;
         }
         // The shares are each pixel's most: where their sum says no, the grid
         // rendered with the doubling says how many rays it takes, most pixels
