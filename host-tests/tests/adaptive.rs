@@ -877,15 +877,21 @@ fn small_point_frames_stay_within_the_ray_budget_at_every_point() {
 #[test]
 fn frames_full_of_lamps_footprints_stay_within_the_ray_budget() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("extra-scenes");
-    let mut frames = 0;
-    for name in [
+    let mut texts: Vec<(&str, String)> = [
         "hand-near-focus.scene",
         "hand-lamp-grid.scene",
         "hand-macro-bokeh.scene",
-    ] {
-        let text = std::fs::read_to_string(dir.join(name)).unwrap();
-        let scene = Scene::<I16F16>::parse(&text).unwrap();
+    ]
+    .into_iter()
+    .map(|name| (name, std::fs::read_to_string(dir.join(name)).unwrap()))
+    .collect();
+    texts.push(("camera-features.scene", scene_text("camera-features.scene")));
+    let mut frames = 0;
+    for (name, text) in &texts {
+        let scene = Scene::<I16F16>::parse(text).unwrap();
         for point in [20, 40, 63, 80, 100, 160] {
+            // The helper names a seed: here the scene and its `point`.
+            println!("{name} at point {point}");
             assert_within_budget(
                 &Renderer::new_with_samples(&scene, 96, 72, Some(point)),
                 point as u64,
@@ -894,16 +900,6 @@ fn frames_full_of_lamps_footprints_stay_within_the_ray_budget() {
             );
             frames += 1;
         }
-    }
-    let scene = Scene::<I16F16>::parse(&scene_text("camera-features.scene")).unwrap();
-    for point in [20, 40, 63, 80, 160] {
-        assert_within_budget(
-            &Renderer::new_with_samples(&scene, 96, 72, Some(point)),
-            point as u64,
-            96,
-            72,
-        );
-        frames += 1;
     }
     // Generated frames at the same `point`s (lamps' footprints or not).
     frames += frames_within_budget(500..520, 40..=40, 64, 48) + frames_within_budget(500..520, 80..=80, 64, 48);
