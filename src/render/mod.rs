@@ -1753,22 +1753,29 @@ mod survey_tests {
         }
     }
 
-    /// An adaptive frame is surveyed wherever its pilots leave any of the
-    /// budget (40 % of `point`), however little: `point` 21 to 25 too, whose
-    /// pilots of 8 leave under a fifth.
+    /// An adaptive frame is surveyed wherever its pilots, with the survey's
+    /// own rays (the pilots again over the cell's area), leave any of the
+    /// budget (40 % of `point`), however little: at 128×96 (cells of 8)
+    /// `point` 21 to 25 too, whose pilots of 8 leave under a fifth; at 64×48
+    /// (cells of 4, the survey a sixteenth of the pilots) not 21, where
+    /// pilots and survey together would take 40.5 %.
     #[test]
     fn a_survey_wherever_the_pilots_leave_rays() {
         let scene = Scene::<I16F16>::parse(include_str!("../../scenes/paper-program1.scene")).unwrap();
-        let mut surveyed = 0;
-        for samples in ADAPTIVE_MIN_POINT..=40 {
-            let (r, n) = surveys_in(|| Renderer::new_with_samples(&scene, 64, 48, Some(samples)));
-            // Program 1 has no lamp in view: every pixel's pilot is the plain one.
-            assert!(!r.bright_footprints().at_risk(32, 24));
-            let leaves = 5 * adaptive_pilot(samples) < 2 * samples;
-            assert_eq!(n == 1, leaves, "point {samples}: {n} surveys");
-            surveyed += (21..=25).contains(&samples) as u32 * n;
+        for (cols, rows, stride, expected) in [(128, 96, 8, 5), (64, 48, 4, 4)] {
+            let mut surveyed = 0;
+            for samples in ADAPTIVE_MIN_POINT..=40 {
+                let (r, n) = surveys_in(|| Renderer::new_with_samples(&scene, cols, rows, Some(samples)));
+                // Program 1 has no lamp in view: every pixel's pilot is the plain one.
+                assert!(!r.bright_footprints().at_risk(cols / 2, rows / 2));
+                assert_eq!(survey_stride(cols, rows, samples), Some(stride));
+                // pilot (1 + 1/s²) < 40 % of `point`.
+                let leaves = 5 * adaptive_pilot(samples) * (stride * stride + 1) < 2 * samples * stride * stride;
+                assert_eq!(n == 1, leaves, "{cols}x{rows} at point {samples}: {n} surveys");
+                surveyed += (21..=25).contains(&samples) as u32 * n;
+            }
+            assert_eq!(surveyed, expected, "{cols}x{rows}");
         }
-        assert_eq!(surveyed, 5);
     }
 
     /// Each survey spot lies in its own cell, and over a 320×240 grid
