@@ -36,6 +36,24 @@ fn arg(i: usize, default: u64) -> u64 {
     std::env::args().nth(i).and_then(|a| a.parse().ok()).unwrap_or(default)
 }
 
+/// The scenes a run measures: seeds `first`.. (`count` of them), or the
+/// files of `LENSRAY_CAMPAIGN_SCENES` numbered from 0.
+fn seeds(first: u64, count: u64, files: &[String]) -> Vec<u64> {
+    if files.is_empty() {
+        (first..first + count).collect()
+    } else {
+        (0..files.len() as u64).collect()
+    }
+}
+
+/// Scene `seed`'s text: file `seed` of `files`, else the generated lens scene.
+fn scene_text(seed: u64, files: &[String]) -> String {
+    match files.get(seed as usize) {
+        Some(f) => std::fs::read_to_string(f).unwrap(),
+        None => lensray_testkit::scenegen::generate_lens(seed),
+    }
+}
+
 /// `LENSRAY_CAMPAIGN_POINTS=LO-HI`: every seed rendered again at each `point`
 /// from LO to HI (its own `point` line replaced; the reference does not
 /// depend on it), and a summary a `point`: the floors below 20 on many scenes.
@@ -45,20 +63,13 @@ fn arg(i: usize, default: u64) -> u64 {
 /// `LENSRAY_CAMPAIGN_POINTS=LO-HI:STEP` steps `point` by STEP (default 1).
 /// `LENSRAY_CAMPAIGN_VERBOSE=1`: every seed's margin and share too.
 fn sweep(first: u64, count: u64, w: u32, h: u32, ref_n: u32, points: impl Iterator<Item = u32>, files: &[String]) {
-    let seeds: Vec<u64> = if files.is_empty() {
-        (first..first + count).collect()
-    } else {
-        (0..files.len() as u64).collect()
-    };
+    let seeds = seeds(first, count, files);
     for p in points {
         let (mut met, mut flat_met, mut n) = (0, 0, 0);
         let (mut worst_share, mut worst_margin, mut share_sum): (f64, f64, f64) = (0.0, f64::INFINITY, 0.0);
         let mut short = Vec::new();
         for &seed in &seeds {
-            let generated = match files.get(seed as usize) {
-                Some(f) => std::fs::read_to_string(f).unwrap(),
-                None => lensray_testkit::scenegen::generate_lens(seed),
-            };
+            let generated = scene_text(seed, files);
             let scene = Scene::<I16F16>::parse(&generated).unwrap();
             if scene.camera.radius == 0.0 {
                 continue;
@@ -114,16 +125,8 @@ fn main() {
     }
     // [all judged seeds, those of `point` below 20]: judged, met, share sum, worst share, worst margin.
     let mut tally = [(0u32, 0u32, 0.0f64, 0.0f64, f64::INFINITY); 2];
-    let seeds: Vec<u64> = if files.is_empty() {
-        (first..first + count).collect()
-    } else {
-        (0..files.len() as u64).collect()
-    };
-    for seed in seeds {
-        let text = match files.get(seed as usize) {
-            Some(f) => std::fs::read_to_string(f).unwrap(),
-            None => lensray_testkit::scenegen::generate_lens(seed),
-        };
+    for seed in seeds(first, count, &files) {
+        let text = scene_text(seed, &files);
         let scene = Scene::<I16F16>::parse(&text).unwrap();
         let point = scene.camera.samples;
         let r = Renderer::new(&scene, w, h);

@@ -596,14 +596,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // below the lamps' pilot, those pixels are spent at it and the others
         // share the rest under it (hand-near-focus at `point` 80, three
         // quarters of it in lamps' footprints, cast 40.5 %).
-        let (mut sharing, mut most, mut seen_sharing) = (unsettled, self.samples, seen);
-        if !cfg!(feature = "no-spare-floor") && risky_unsettled > 0 {
-            let risk_pilot = self.risk_pilot();
-            if budget.saturating_sub(spent) < 5 * unsettled as u128 * pixels * risk_pilot as u128 {
-                spent += 5 * (risky_unsettled * risk_pilot as u64) as u128 * pixels;
-                (sharing, most, seen_sharing) = (unsettled - risky_unsettled, risk_pilot - 1, seen - risky_unsettled);
-            }
-        }
+        let risk_pilot = self.risk_pilot();
+        let lamps_apart = !cfg!(feature = "no-spare-floor")
+            && risky_unsettled > 0
+            && budget.saturating_sub(spent) < 5 * unsettled as u128 * pixels * risk_pilot as u128;
+        // The unsettled pixels that share C (margin included), those the survey saw, and C's most.
+        let apart = if lamps_apart { risky_unsettled } else { 0 };
+        let (sharing, seen_sharing) = (unsettled - apart, seen - apart);
+        let most = if lamps_apart { risk_pilot - 1 } else { self.samples };
+        spent += 5 * (apart * risk_pilot as u64) as u128 * pixels;
         let cap_after = |rays: u64| match budget_after(rays).checked_sub(spent) {
             _ if sharing == 0 => most,
             Some(left) => (left / (5 * sharing as u128 * pixels)).min(most as u128) as u32,
@@ -620,10 +621,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             // half-octaves' middles and at most `point`, then sum to what the
             // survey gave them (C a pixel before rounding down): rays the
             // shares stopped at `point` leave (lamps' rims), not others'.
-            let pilots = [adaptive_pilot(self.samples), self.risk_pilot()];
+            let pilots = [adaptive_pilot(self.samples), risk_pilot];
             let mut sum = 0u64;
             // Lamps' pixels spent at their pilot above are not summed again.
-            let kinds = if most < self.samples { 1 } else { 2 };
+            let kinds = if lamps_apart { 1 } else { 2 };
             for (k, row) in by_spread.iter().enumerate().take(kinds) {
                 for (b, &n) in row.iter().enumerate() {
                     // The half-octave's middle: 1.25 or 1.75 times 2^(b/2) (under 2^32).
