@@ -9,6 +9,12 @@ cd "$(dirname "$0")/.."
 
 step() { printf '\n==> %s\n' "$*"; }
 
+# A clean clone's build took 7 GB with incremental caches and full debug info,
+# and CI once ran out of disk on it: neither helps a one-off run.
+export CARGO_INCREMENTAL=0
+export CARGO_PROFILE_DEV_DEBUG=line-tables-only CARGO_PROFILE_TEST_DEBUG=line-tables-only
+step "disk: $(df -Ph . | awk 'NR==2 {print $4}') free where the build goes"
+
 step "toolchain: targets and components"
 targets="thumbv6m-none-eabi thumbv7m-none-eabi thumbv7em-none-eabihf"
 installed=$(rustup target list --installed)
