@@ -495,10 +495,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// sets how they share it (see [`Renderer::pixel_rays`]). Where the
     /// shares' sum leaves no room for [`Renderer::doubling`], the grid runs
     /// again under C with it and the rays it casts decide. Where C is
-    /// `samples`, the grid runs again under C to measure what the unsettled
-    /// pixels take, and what that leaves, with margins, sets
-    /// [`Renderer::floor`]. The grid takes a pixel of each cell at a hashed
-    /// offset ([`survey_spot`]). Set-up only, in integers.
+    /// `samples`, or at least two thirds of it on a grid of every 8th pixel
+    /// or sparser where the floor could rise by half a pilot, the grid runs
+    /// again under C to measure what the unsettled pixels take, and what
+    /// that leaves, with margins, sets [`Renderer::floor`] (capped, none
+    /// left: the pass's rays lower C). The grid takes a pixel of each cell
+    /// at a hashed offset ([`survey_spot`]). Set-up only, in integers.
     fn surveyed(mut self) -> Self {
         self.clear_survey();
         let (cols, rows) = (self.camera.cols(), self.camera.rows());
@@ -668,8 +670,18 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         self.rules = raised | (doubling as u32) << 16 | (measured as u32) << 19;
         // Rays the unsettled pixels leave go to the pixels settled at the
         // plain pilot, as a floor (seeds 1042, 8232 cast 21 and 18 % of
-        // `point` and missed by stopping early).
-        if self.cap == self.samples && plain_settled > 0 && !cfg!(feature = "no-spare-floor") {
+        // `point` and missed by stopping early). Under a cap of two thirds
+        // of `point` or more too, measured (seed 11557, `point` 43, cap 34:
+        // 30.7 -> 35.8 % of `point`, +0.74 dB); under a lower cap the shares
+        // spend the budget and the pass's rays came out of the cap (seed
+        // 11568, cap 12 of 28: -0.26 dB).
+        let capped = self.cap < self.samples && 3 * self.cap >= 2 * self.samples && s >= 8;
+        if (self.cap == self.samples || capped) && plain_settled > 0 && !cfg!(feature = "no-spare-floor") {
+            let plain = adaptive_pilot(self.samples) as u64;
+            // Three deviations and three pixels more of those that take the floor.
+            let var = (plain_settled * (count - plain_settled)).div_ceil(count);
+            let takers = plain_settled + 3 * crate::number::wide::isqrt_rem_u64(var).0 + 3;
+            let extra = |left: u128| left / (5 * takers as u128 * pixels);
             // The unsettled pixels' rays, high: every sample, three count
             // deviations and three pixels more (seed 8212: none of 70 surveyed,
             // 0.6 % of the frame, cast 40.3 %).
@@ -680,8 +692,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             // sample): most settle long before every sample (frames at 320x240
             // cast 26 to 35 % of `point`; seed 8714 32.2 % -> 37.2 %, +0.36 dB).
             let most = settled_pilots + unsettled * self.samples as u64;
+            // Capped, where the floor would rise by half a pilot even if every
+            // unsettled pixel stopped at its pilot (a pass that found no floor
+            // cost seeds 11579 and 11601 0.6 % of `point`).
+            let best = budget_after(rays + pilots)
+                .saturating_sub(spent + 5 * ((unsettled + 2 * sigma + 3) * plain) as u128 * pixels);
+            let worth = capped && 2 * extra(best) >= plain as u128;
             if unsettled > 0
-                && budget_after(rays + most) >= spent + 5 * (unsettled * self.samples as u64) as u128 * pixels
+                && (worth
+                    || budget_after(rays + most) >= spent + 5 * (unsettled * self.samples as u64) as u128 * pixels)
             {
                 let (mut measured, mut sum, mut squares, mut seen) = (0u64, 0u64, 0u64, 0u64);
                 for (x, y) in grid(s) {
@@ -695,19 +714,17 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 }
                 rays += measured;
                 // Their sum, the same count margins at their mean, and three deviations of the sum.
-                let mean = sum.div_ceil(seen.max(1)).max(adaptive_pilot(self.samples) as u64);
+                let mean = sum.div_ceil(seen.max(1)).max(plain);
                 let var = (seen * squares).saturating_sub(sum * sum).div_ceil(seen.max(1));
                 let dev = crate::number::wide::isqrt_rem_u64(var).0 + 1;
                 let margin = unsettled - seen.min(unsettled) + 2 * sigma + 3;
                 high = high.min(sum + margin * mean + 3 * dev);
             }
             if let Some(left) = budget_after(rays).checked_sub(spent + 5 * high as u128 * pixels) {
-                // Three deviations and three pixels more of those that take the floor.
-                let var = (plain_settled * (count - plain_settled)).div_ceil(count);
-                let takers = plain_settled + 3 * crate::number::wide::isqrt_rem_u64(var).0 + 3;
-                let extra = left / (5 * takers as u128 * pixels);
-                let floor = adaptive_pilot(self.samples) as u128 + extra;
-                self.floor = floor.min(self.samples as u128) as u32;
+                self.floor = (plain as u128 + extra(left)).min(self.samples as u128) as u32;
+            } else if worth {
+                // No floor: the pass's rays come out of the cap.
+                self.cap = cap_after(rays);
             }
             self.survey_rays = rays as u32;
         }
