@@ -567,16 +567,16 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             rays += n as u64;
             if spread == 0 {
                 settled_pilots += n as u64;
-                plain_settled += (pilot == adaptive_pilot(self.samples)) as u64;
+                plain_settled += (pilot == plain_pilot) as u64;
             } else {
                 unsettled += 1;
-                risky_unsettled += (pilot != adaptive_pilot(self.samples)) as u64;
+                risky_unsettled += (pilot != plain_pilot) as u64;
                 spreads += spread as u64;
                 if !cfg!(feature = "no-spare-floor") {
                     // Half-octaves of spread, plain and raised pilots apart.
                     let e = 31 - spread.leading_zeros();
                     let b = (2 * e + (e > 0 && spread >> (e - 1) & 1 == 1) as u32) as usize;
-                    let k = (pilot != adaptive_pilot(self.samples)) as usize;
+                    let k = (pilot != plain_pilot) as usize;
                     by_spread[k][b] = by_spread[k][b].saturating_add(1);
                 }
             }
@@ -599,7 +599,6 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // below the lamps' pilot, those pixels are spent at it and the others
         // share the rest under it (hand-near-focus at `point` 80, three
         // quarters of it in lamps' footprints, cast 40.5 %).
-        let risk_pilot = self.risk_pilot();
         let lamps_apart = !cfg!(feature = "no-spare-floor")
             && risky_unsettled > 0
             && budget.saturating_sub(spent) < 5 * unsettled as u128 * pixels * risk_pilot as u128;
@@ -624,7 +623,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             // half-octaves' middles and at most `point`, then sum to what the
             // survey gave them (C a pixel before rounding down): rays the
             // shares stopped at `point` leave (lamps' rims), not others'.
-            let pilots = [adaptive_pilot(self.samples), risk_pilot];
+            let pilots = [plain_pilot, risk_pilot];
             let mut sum = 0u64;
             // Lamps' pixels spent at their pilot above are not summed again.
             let kinds = if lamps_apart { 1 } else { 2 };
@@ -645,7 +644,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // `point` with it, -0.06 -> +0.28 dB against the floor). Where the cap
         // lets a pilot double, on grids of a 64th of the pixels or sparser:
         // the pass costs a pixel 1/s² of its rays.
-        let doubles = self.cap >= 2 * adaptive_pilot(self.samples) && self.cap < self.samples;
+        let doubles = self.cap >= 2 * plain_pilot && self.cap < self.samples;
         let measured = !cfg!(feature = "no-spare-floor") && !doubling && doubles && seen > 0 && s >= 8;
         let raised = self.rules & 1 << 20;
         if measured {
@@ -683,7 +682,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             && self.samples >= ADAPTIVE_EIGHT_POINT
             && s >= 8;
         if (self.cap == self.samples || capped) && plain_settled > 0 && !cfg!(feature = "no-spare-floor") {
-            let plain = adaptive_pilot(self.samples) as u64;
+            let plain = plain_pilot as u64;
             // Three deviations and three pixels more of those that take the floor.
             let var = (plain_settled * (count - plain_settled)).div_ceil(count);
             let takers = plain_settled + 3 * crate::number::wide::isqrt_rem_u64(var).0 + 3;
@@ -697,16 +696,18 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             // that pass at its most (pilots again, unsettled pixels at every
             // sample): most settle long before every sample (frames at 320x240
             // cast 26 to 35 % of `point`; seed 8714 32.2 % -> 37.2 %, +0.36 dB).
-            let most = settled_pilots + unsettled * self.samples as u64;
+            let pass_most = settled_pilots + unsettled * self.samples as u64;
             // Capped, where the floor would rise by half a pilot even if every
             // unsettled pixel stopped at its pilot (a pass that found no floor
             // cost seeds 11579 and 11601 0.6 % of `point`).
-            let best = budget_after(rays + pilots)
-                .saturating_sub(spent + 5 * ((unsettled + 2 * sigma + 3) * plain) as u128 * pixels);
-            let worth = capped && 2 * extra(best) >= plain as u128;
+            let worth = capped && {
+                let best = budget_after(rays + pilots)
+                    .saturating_sub(spent + 5 * ((unsettled + 2 * sigma + 3) * plain) as u128 * pixels);
+                2 * extra(best) >= plain as u128
+            };
             if unsettled > 0
                 && (worth
-                    || budget_after(rays + most) >= spent + 5 * (unsettled * self.samples as u64) as u128 * pixels)
+                    || budget_after(rays + pass_most) >= spent + 5 * (unsettled * self.samples as u64) as u128 * pixels)
             {
                 let (mut measured, mut sum, mut squares, mut seen) = (0u64, 0u64, 0u64, 0u64);
                 for (x, y) in grid(s) {
