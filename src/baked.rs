@@ -66,6 +66,7 @@ use crate::render::cull::LensCones;
 use crate::render::cut::LensCut;
 use crate::render::defocus::Defocus;
 use crate::render::footprint::BrightFootprints;
+use crate::render::lamps::LampParts;
 use crate::render::Renderer;
 use crate::scene::{Scene, MAX_OBJECTS};
 
@@ -92,6 +93,7 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
         budget256,
         rules,
         cut,
+        lamps,
     } = r;
     put_scene(scene, w);
     camera.put(w);
@@ -108,6 +110,7 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
     budget256.put(w);
     rules.put(w);
     cut.put(w);
+    lamps.put(w);
 }
 
 fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
@@ -184,6 +187,7 @@ pub struct Baked<S: BakeScalar> {
     budget256: u32,
     rules: u32,
     cut: LensCut,
+    lamps: LampParts,
     /// The cones and footprints were moved out by [`Baked::take_renderer`].
     taken: bool,
 }
@@ -207,6 +211,7 @@ impl<S: BakeScalar> Baked<S> {
             budget256: 0,
             rules: 0,
             cut: LensCut::NONE,
+            lamps: LampParts::NONE,
             taken: false,
         }
     }
@@ -257,6 +262,7 @@ impl<S: BakeScalar> Baked<S> {
         self.budget256 = 0;
         self.rules = 0;
         self.cut = LensCut::NONE;
+        self.lamps = LampParts::NONE;
     }
 
     fn load_checked(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
@@ -333,6 +339,7 @@ impl<S: BakeScalar> Baked<S> {
         self.budget256.take(r);
         self.rules.take(r);
         self.cut.take(r);
+        self.lamps.take(r);
         if !r.ok() {
             return;
         }
@@ -376,6 +383,7 @@ impl<S: BakeScalar> Baked<S> {
             budget256: self.budget256,
             rules: self.rules,
             cut: self.cut.clone(),
+            lamps: self.lamps.clone(),
         }
     }
 
@@ -407,6 +415,7 @@ impl<S: BakeScalar> Baked<S> {
             budget256: self.budget256,
             rules: self.rules,
             cut: core::mem::replace(&mut self.cut, LensCut::NONE),
+            lamps: core::mem::replace(&mut self.lamps, LampParts::NONE),
         }
     }
 

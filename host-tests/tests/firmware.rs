@@ -595,3 +595,38 @@ fn the_scanline_filter_runs_bit_for_bit_on_the_cortex_m3() {
         assert_eq!(o.get("rays"), 21);
     }
 }
+
+/// `camera-features` at `point` 33: its lamps' bokeh takes lamps' parts of
+/// the lens (src/render/lamps.rs: a ray drawn in the lamp's steps of the
+/// unit square, each part weighed by its share), bit for bit on the
+/// Cortex-M3 in Q16.16 and f32.
+#[test]
+#[ignore = "needs qemu-system-arm and thumbv7m-none-eabi; run by scripts/firmware-tests.sh"]
+fn lamps_parts_of_the_lens_run_bit_for_bit_on_the_cortex_m3() {
+    let (w, h) = (40, 30);
+    let text =
+        lensray_host::convergence::with_point(&std::fs::read_to_string(scene("camera-features.scene")).unwrap(), 33);
+    let parsed = lensray::Scene::<I16F16>::parse(&text).unwrap();
+    let r = lensray::Renderer::new(&parsed, w, h);
+    assert!(r.lamp_parts());
+    // Pixels that cast a lamp's ray beyond their pilot (8 or 16) or share: an odd count.
+    let odd = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| r.pixel_rays(x, y).1 & 1 == 1)
+        .count();
+    assert!(odd >= 20, "{odd} pixels cast a lamp's ray");
+    let path = tmp("camera-features-33-mps2-an385.scene");
+    std::fs::write(&path, text).unwrap();
+    let scene: &'static str = path.to_str().unwrap().to_string().leak();
+    for float in [false, true] {
+        emulate_and_compare(&Run {
+            board: "mps2-an385",
+            scene,
+            width: w,
+            height: h,
+            samples: None,
+            float,
+            soft_sqrt: false,
+        });
+    }
+}

@@ -115,7 +115,15 @@ impl Aperture {
     pub fn map_q16(&self, u: u16, v: u16) -> (i32, i32) {
         // Q0.15 radius: √((u + ½) / 2¹⁶), below 1 (the sample at the stratum's middle bit).
         let r = isqrt_u32((((u as u32) << 1) | 1) << 13) as i32;
-        let (rim_x, rim_y) = if self.blades == 0 {
+        let (rim_x, rim_y) = self.rim(v);
+        // Truncated towards 0: |point| <= r |rim| < 1.
+        ((r * rim_x) / 32768, (r * rim_y) / 32768)
+    }
+
+    /// The rim point [`Aperture::map_q16`] scales for `v`, Q1.15.
+    #[inline]
+    pub fn rim(&self, v: u16) -> (i32, i32) {
+        if self.blades == 0 {
             (sin_q15(v.wrapping_add(0x4000)), sin_q15(v))
         } else {
             let n = self.blades as u32;
@@ -131,9 +139,38 @@ impl Aperture {
             // a + f (b − a), the chord: inside the polygon, within the circle.
             let lerp = |a: i16, b: i16| a as i32 + (((b as i32 - a as i32) * f) >> 15);
             (lerp(a.0, b.0), lerp(a.1, b.1))
-        };
-        // Truncated towards 0: |point| <= r |rim| < 1.
-        ((r * rim_x) / 32768, (r * rim_y) / 32768)
+        }
+    }
+
+    /// The `v` of [`Aperture::map_q16`] whose rim point lies in direction
+    /// (`x`, `y`) from the centre (not both 0): a turn of the disk, or the
+    /// polygon's sector and the place along its chord, the inverse of the
+    /// map's rim. Integers only (a lamp's part of the lens, per pixel: see
+    /// [`crate::render::lamps`]).
+    pub fn v_toward(&self, x: i64, y: i64) -> u16 {
+        // Within ±2²⁴: the cross products below stay within an i64 shifted by 16.
+        let (mut x, mut y) = (x, y);
+        while x.unsigned_abs() >= 1 << 24 || y.unsigned_abs() >= 1 << 24 {
+            (x, y) = (x >> 1, y >> 1);
+        }
+        if self.blades == 0 {
+            return turn_toward(x, y);
+        }
+        let n = self.blades as usize;
+        let corner = |i: usize| self.corners.get(i).copied().unwrap_or_default();
+        // cross(corner, (x, y)): ≥ 0 counter-clockwise of it.
+        let cross = |c: (i16, i16)| c.0 as i64 * y - c.1 as i64 * x;
+        for k in 0..n {
+            let next = if k + 1 == n { 0 } else { k + 1 };
+            let (a, b) = (cross(corner(k)), cross(corner(next)));
+            // Sectors under half a turn: this test holds in one of them.
+            if a >= 0 && b < 0 {
+                // Where the ray meets the chord a + f (b − a): f = a / (a − b), in 2⁻¹⁶.
+                let f = ((a << 16) / (a - b)).min(0xFFFF) as u64;
+                return ((((k as u64) << 16) | f) / n as u64) as u16;
+            }
+        }
+        0
     }
 
     /// The radius of the disc of this aperture's area, the unit circle's
@@ -146,6 +183,15 @@ impl Aperture {
         let n = self.blades as f64;
         let (s, _) = sin_cos_degrees(360.0 / n);
         libm::sqrt(n * s / (2.0 * core::f64::consts::PI))
+    }
+
+    /// The inradius, Q1.15: 32768 for the disk, cos(π/n) for a polygon.
+    pub fn inradius_q15(&self) -> i32 {
+        if self.blades == 0 {
+            32768
+        } else {
+            self.inradius >> 14
+        }
     }
 
     /// Number of sides; 0 for round.
@@ -206,6 +252,33 @@ pub fn isqrt_u32(x: u32) -> u32 {
         bit >>= 2;
     }
     root
+}
+
+/// The turn (2⁻¹⁶ of a full one) of direction (`x`, `y`) (within ±2²⁴, not
+/// both 0), by bisection on [`sin_q15`] within the octant: the inverse of
+/// the disk's rim (cos, sin) to a few units.
+fn turn_toward(x: i64, y: i64) -> u16 {
+    let (ax, ay) = (x.abs(), y.abs());
+    let (big, small) = if ax >= ay { (ax, ay) } else { (ay, ax) };
+    // The least α in [0, ⅛ turn] with small · cos α <= big · sin α.
+    let (mut lo, mut hi) = (0u32, 0x2000u32);
+    while lo < hi {
+        let m = (lo + hi) / 2;
+        let (s, c) = (sin_q15(m as u16) as i64, sin_q15((m + 0x4000) as u16) as i64);
+        if small * c <= big * s {
+            hi = m;
+        } else {
+            lo = m + 1;
+        }
+    }
+    let t = if ax >= ay { lo } else { 0x4000 - lo };
+    let t = match (x >= 0, y >= 0) {
+        (true, true) => t,
+        (false, true) => 0x8000 - t,
+        (false, false) => 0x8000 + t,
+        (true, false) => 0x1_0000 - t,
+    };
+    t as u16
 }
 
 /// sin(2π k / 1024) · 32767 rounded, k = 0..=256: a quarter wave (514 bytes of flash).
@@ -403,6 +476,24 @@ mod tests {
         // Polygons: inside, and uniform over the cells of the rejection test above.
         for (n, rot) in [(3, 90.0), (5, 0.0), (6, 15.0), (16, 7.0)] {
             assert_inside_and_uniform(n, rot, mapped(&Aperture::regular(n, rot)));
+        }
+    }
+
+    /// `v_toward` inverts the rim: the `v` of a rim point's direction is
+    /// that point's `v`, to a few units, for the disk and the polygons, at
+    /// any length of the direction.
+    #[test]
+    fn v_toward_inverts_the_rim() {
+        for (blades, rot) in [(0u32, 0.0), (3, 90.0), (5, -30.0), (6, 15.0), (9, 7.0), (16, 0.0)] {
+            let ap = Aperture::regular(blades, rot);
+            for v in (0..65536u32).step_by(37) {
+                let (x, y) = ap.rim(v as u16);
+                for scale in [1i64, 3, 1 << 20] {
+                    let back = ap.v_toward(x as i64 * scale, y as i64 * scale);
+                    let off = back.wrapping_sub(v as u16) as i16;
+                    assert!(off.abs() <= 3, "blades {blades}: v {v} -> {back} ({off})");
+                }
+            }
         }
     }
 }

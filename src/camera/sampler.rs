@@ -150,6 +150,26 @@ impl PixelSamples {
             }
         }
     }
+
+    /// [`PixelSamples::next`] and, for the stratified sampler, the point of
+    /// the unit square it was mapped from.
+    #[inline]
+    pub fn next_point(&mut self, aperture: &Aperture) -> ((i32, i32), Option<(u16, u16)>) {
+        match self.next_unit() {
+            Some((u, v)) => (aperture.map_q16(u, v), Some((u, v))),
+            None => {
+                self.index = self.index.wrapping_add(1);
+                (aperture.sample(&mut self.lfsr), None)
+            }
+        }
+    }
+
+    /// 32 fresh bits from the pixel's register; the sequence's index is left
+    /// as it is (a ray drawn in a lamp's part of the lens, see
+    /// [`crate::render::lamps`]).
+    pub fn draw_u32(&mut self) -> u32 {
+        (self.lfsr.next_u16() as u32) << 16 | self.lfsr.next_u16() as u32
+    }
 }
 
 impl crate::bytes::Field for Sampler {

@@ -99,9 +99,15 @@ pub struct LensCut {
 pub struct PixelCut {
     /// The lines' σ, the lesser first.
     bounds: [i32; 2],
-    /// Each part's share of the aperture, 65536ths.
-    shares: [u32; 3],
+    /// Each part's share of the aperture.
+    pub(crate) shares: Shares,
 }
+
+/// Each of a pixel's (at most three) parts of the lens by its share of the
+/// aperture, 65536ths: a cut lens's, or a lamp's and the rest (see
+/// [`crate::render::lamps`]).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Shares(pub [u32; 3]);
 
 impl LensCut {
     /// No cut.
@@ -264,7 +270,7 @@ impl LensCut {
         let (a, b) = (self.below(lo), self.below(hi));
         PixelCut {
             bounds: [lo as i32, hi as i32],
-            shares: [a, b - a, SHARE_POINTS - b],
+            shares: Shares([a, b - a, SHARE_POINTS - b]),
         }
     }
 }
@@ -275,14 +281,16 @@ impl PixelCut {
     pub fn part(&self, sigma: i32) -> usize {
         (sigma > self.bounds[0]) as usize + (sigma > self.bounds[1]) as usize
     }
+}
 
+impl Shares {
     /// The part of at least [`FORCE_MIN_SHARE`] of the lens with the largest
     /// share among those `counts` says have no ray yet, if any.
     #[inline]
     pub fn starved(&self, counts: &[u32; 3]) -> Option<usize> {
         (0..3)
-            .filter(|&k| counts[k] == 0 && self.shares[k] >= FORCE_MIN_SHARE)
-            .max_by_key(|&k| self.shares[k])
+            .filter(|&k| counts[k] == 0 && self.0[k] >= FORCE_MIN_SHARE)
+            .max_by_key(|&k| self.0[k])
     }
 
     /// The pixel's colour from each part's sum and count of rays: each
@@ -290,12 +298,12 @@ impl PixelCut {
     /// have rays (`n` rays in all, at least one).
     #[inline]
     pub fn mean<S: Scalar>(&self, sums: &[[S::Acc; 3]; 3], counts: &[u32; 3]) -> Vec3<S> {
-        let seen: u32 = (0..3).filter(|&k| counts[k] > 0).map(|k| self.shares[k]).sum();
+        let seen: u32 = (0..3).filter(|&k| counts[k] > 0).map(|k| self.0[k]).sum();
         let mut out = [S::ZERO; 3];
         for k in (0..3).filter(|&k| counts[k] > 0) {
             // Its share of the parts seen, Q1.15 (seen > 0: a part with rays has lens).
             let w = S::from_q15(
-                ((self.shares[k] as u64) << 15)
+                ((self.0[k] as u64) << 15)
                     .checked_div(seen as u64)
                     .unwrap_or(0)
                     .min(32768) as i32,
@@ -469,18 +477,12 @@ mod tests {
         /// Each part's mean weighs its share of the parts that have rays.
         #[test]
         fn each_part_weighs_its_share() {
-            let q = PixelCut {
-                bounds: [0, 0],
-                shares: [16384, 0, 49152],
-            };
+            let q = Shares([16384, 0, 49152]);
             let sums = [[2.0f64; 3], [0.0; 3], [1.2; 3]];
             // Two rays of 1, six of 0.2: a quarter and three quarters of the lens.
             let m = q.mean::<f32>(&sums, &[2, 0, 6]);
             assert!((m.x - (0.25 + 0.75 * 0.2)).abs() < 1e-4, "{}", m.x);
-            let q = PixelCut {
-                bounds: [0, 0],
-                shares: [6554, 32768, 26214],
-            };
+            let q = Shares([6554, 32768, 26214]);
             // The middle part unseen: the others by their shares of what is seen.
             let m = q.mean::<f32>(&sums, &[2, 0, 6]);
             let w = 6554.0 / (6554.0 + 26214.0);

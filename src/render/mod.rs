@@ -22,6 +22,7 @@ pub mod cull;
 pub mod cut;
 pub mod defocus;
 pub mod footprint;
+pub mod lamps;
 pub mod progressive;
 pub mod scanline;
 mod trace;
@@ -72,11 +73,15 @@ pub struct Renderer<'a, S: Scalar> {
     /// 18, with a loose rule: it fills off checkers (see
     /// [`Renderer::gap_checkers`]; baked since format 15); 19: the doubling
     /// was measured; 20, from [`ADAPTIVE_MIN_POINT`]: pixels in lamps'
-    /// footprints take [`adaptive_raised_pilot`] (see [`Renderer::raised_pilots`]).
+    /// footprints take [`adaptive_raised_pilot`] (see [`Renderer::raised_pilots`]);
+    /// 21: adaptive pixels take lamps' parts of the lens (see [`lamps`]).
     pub(crate) rules: u32,
     /// A plane that cuts the lens: a pixel's rays are weighed by their
     /// part's share of the lens (see [`cut`]).
     pub(crate) cut: LensCut,
+    /// Lamps' discs on the lens: a pixel's rays are weighed by their part's
+    /// share, and its pilot puts one in the lamp's (see [`lamps`]).
+    pub(crate) lamps: lamps::LampParts,
 }
 
 /// The pilot of `point 48` to 95: one sample in each of 16 equal strata of
@@ -327,6 +332,10 @@ const ADAPTIVE_REL_SIXTEENTHS: u64 = 16;
 /// agree by chance.
 const ADAPTIVE_MAX_GAIN: u64 = 8;
 
+/// Bit 21 of [`Renderer::rules`]: adaptive pixels take lamps' parts of the
+/// lens (see [`lamps`]), where the survey found room for their rays.
+const LAMP_PARTS_RULE: u32 = 1 << 21;
+
 /// `a · b` exactly, as its high and low 64-bit words (compared as a tuple).
 fn mul_wide(a: u64, b: u64) -> (u64, u64) {
     let (a0, a1, b0, b1) = (a & 0xFFFF_FFFF, a >> 32, b & 0xFFFF_FFFF, b >> 32);
@@ -463,9 +472,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// The renderer before its survey (see [`Renderer::surveyed`]).
     fn unsurveyed(scene: &'a Scene<S>, cols: u32, rows: u32) -> Self {
         let camera = Camera::new(&scene.camera, cols, rows);
+        let bright = BrightFootprints::new(scene, camera.cols(), camera.rows());
         Renderer {
             scene,
-            bright: BrightFootprints::new(scene, camera.cols(), camera.rows()),
+            lamps: lamps::LampParts::new(scene, &bright, camera.cols(), camera.rows()),
+            bright,
             camera,
             cones: LensCones::new(scene, scene.camera.lens_position, scene.camera.radius),
             samples: scene.camera.samples.max(1),
@@ -556,19 +567,28 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         }
         #[cfg(test)]
         SURVEYS.with(|n| n.set(n.get() + 1));
+        // Lamps' parts of the lens, measured with the rest (see [`lamps`]).
+        if !self.lamps.is_empty() {
+            self.rules |= LAMP_PARTS_RULE;
+        }
         let (mut settled_pilots, mut unsettled, mut rays, mut spreads) = (0u64, 0u64, 0u64, 0u64);
         let (mut plain_settled, mut risky_unsettled) = (0u64, 0u64);
+        // Grid pixels that cast a lamp's ray beyond their pilot, and that kept it.
+        let (mut lamps_cast, mut lamps_kept) = (0u64, 0u64);
         // The unsettled pixels by spread, for the doubling they take (see [`Renderer::share`]).
         let mut by_spread = [[0u16; 64]; 2];
         for (x, y) in grid(s) {
             let pilot = pilot(x, y);
             // Without a spread yet, the pixel stops at its pilot either way.
-            let (_, n, spread, _) = self.pixel_rays_within(x, y, pilot);
+            let (_, n, spread, _, lamp) = self.pixel_rays_within(x, y, pilot);
             rays += n as u64;
+            (lamps_cast, lamps_kept) = (lamps_cast + (lamp > 0) as u64, lamps_kept + (lamp > 1) as u64);
             if spread == 0 {
                 settled_pilots += n as u64;
                 plain_settled += (pilot == plain_pilot) as u64;
             } else {
+                // A lamp's ray beyond the pilot (see [`lamps`]) comes on top of its share.
+                settled_pilots += n.saturating_sub(pilot) as u64;
                 unsettled += 1;
                 risky_unsettled += (pilot != plain_pilot) as u64;
                 spreads += spread as u64;
@@ -580,6 +600,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     by_spread[k][b] = by_spread[k][b].saturating_add(1);
                 }
             }
+        }
+        if 2 * lamps_kept < lamps_cast {
+            // Most of the grid's lamps' rays showed what the pilots showed:
+            // the frame is better off without them (seed 11734, `point` 27,
+            // a gilded sphere bright only by its bound: 1162 of 1200 grid
+            // pixels cast one, none kept, -0.57 dB; 11754, 158 of 681 kept,
+            // -0.47 dB; `camera-features` at 33, 56 of 61).
+            self.rules &= !LAMP_PARTS_RULE;
+            (rays, settled_pilots) = (rays - lamps_cast, settled_pilots - lamps_cast);
         }
         let seen = unsettled;
         // A margin of one binomial standard deviation of the count,
@@ -613,6 +642,11 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             None => 0,
         };
         self.cap = cap_after(rays);
+        if self.cap < plain_pilot {
+            // No room for a lamp's ray beyond the pilot (seed 11679, `point`
+            // 10, its pilots the whole budget: 40.3 % of `point` with them).
+            self.rules &= !LAMP_PARTS_RULE;
+        }
         self.survey_rays = rays as u32;
         self.spread = spreads.div_ceil(unsettled.max(1)).min(u32::MAX as u64) as u32;
         // Every share within `point` bounds what the unsettled pixels take.
@@ -646,7 +680,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // the pass costs a pixel 1/s² of its rays.
         let doubles = self.cap >= 2 * plain_pilot && self.cap < self.samples;
         let measured = !cfg!(feature = "no-spare-floor") && !doubling && doubles && seen > 0 && s >= 8;
-        let raised = self.rules & 1 << 20;
+        let raised = self.rules & (1 << 20 | LAMP_PARTS_RULE);
         if measured {
             self.rules = raised | 1 << 16;
             let (mut sum, mut squares) = (0u64, 0u64);
@@ -711,7 +745,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             {
                 let (mut measured, mut sum, mut squares, mut seen) = (0u64, 0u64, 0u64, 0u64);
                 for (x, y) in grid(s) {
-                    let (_, n, _, _) = self.pixel_rays_within(x, y, self.cap);
+                    let (_, n, _, _, _) = self.pixel_rays_within(x, y, self.cap);
                     measured += n as u64;
                     if n > pilot(x, y) {
                         sum += n as u64;
@@ -1212,6 +1246,20 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         (self.budget256, self.rules) = (0, 0);
     }
 
+    /// Whether adaptive pixels take lamps' parts of the lens (see [`lamps`]):
+    /// the survey found room for their rays.
+    pub fn lamp_parts(&self) -> bool {
+        self.rules & LAMP_PARTS_RULE != 0 && !self.lamps.is_empty()
+    }
+
+    /// This renderer without lamps' parts of the lens (see [`lamps`]), its
+    /// survey as it was: what they change (tests, diagnosis).
+    #[doc(hidden)]
+    pub fn without_lamp_parts(mut self) -> Self {
+        self.rules &= !LAMP_PARTS_RULE;
+        self
+    }
+
     /// This renderer without gaps (see [`Renderer::gap_period`]): its
     /// pixels as a build without the scanline filter (the micro:bit's, which
     /// takes no gap survey) renders them, 40 % of `point` each.
@@ -1312,7 +1360,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// stratum's footprint (see [`Defocus`]): one of `check` strata while the
     /// pixel is adaptive, else of the largest power of two within the samples.
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
-        let (c, n, _, _) = self.pixel_rays_within(col, row, self.cap);
+        let (c, n, _, _, _) = self.pixel_rays_within(col, row, self.cap);
         (c, n)
     }
 
@@ -1327,7 +1375,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// [`Renderer::pixel_far`] and, with extension on, the powers of two at
     /// which its rays' range was wide (see [`Renderer::extends`]).
     fn pixel_far_wide(&self, col: u32, row: u32) -> FarWide {
-        let (c, n, wide_at, far) = self.pixel_rays_within(col, row, self.cap);
+        let (c, n, wide_at, far, _) = self.pixel_rays_within(col, row, self.cap);
         (scanline::Fine::of(c), n, far, wide_at)
     }
 
@@ -1366,7 +1414,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// bits, at which its first n rays were wide (diagnosis).
     #[doc(hidden)]
     pub fn pixel_rays_spread(&self, col: u32, row: u32) -> (Vec3<S>, u32, u32) {
-        let (c, n, spread, _) = self.pixel_rays_within(col, row, self.cap);
+        let (c, n, spread, _, _) = self.pixel_rays_within(col, row, self.cap);
         (c, n, spread)
     }
 
@@ -1395,14 +1443,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// pixel that is not settled (at least its pilot), and the pixel's spread
     /// at its last check if it was not settled there (at least 1), else 0,
     /// and its class for the scanline filter (see [`scanline::Scanline`]).
-    fn pixel_rays_within(&self, col: u32, row: u32, most: u32) -> (Vec3<S>, u32, u32, u8) {
+    fn pixel_rays_within(&self, col: u32, row: u32, most: u32) -> (Vec3<S>, u32, u32, u8, u8) {
         let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
             let ray = self.camera.generate_ray(&CameraSample {
                 film: &film,
                 lens: None,
             });
-            return (self.scene.trace_lens_ray(&ray, &self.cones, None).0, 1, 0, 0);
+            return (self.scene.trace_lens_ray(&ray, &self.cones, None).0, 1, 0, 0, 0);
         }
         // The pixel's own samples: independent of row order and threads.
         let mut lens = PixelSamples::new(self.sampler, col, row);
@@ -1410,7 +1458,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // where a plane cuts the lens (see [`cut`]).
         let mut sums = [[S::acc_zero(); 3]; 3];
         let mut counts = [0u32; 3];
-        let parts = self.cut.is_cut().then(|| self.cut.pixel(col, row));
+        let pixel_cut = self.cut.is_cut().then(|| self.cut.pixel(col, row));
         let mut stats = LevelStats::default();
         let adaptive = self.adaptive && self.samples >= ADAPTIVE_MIN_POINT;
         // Where a lamp may shine through part of the lens, a pilot at half the
@@ -1435,6 +1483,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let pilot = check;
         // The rays of a pixel's first block: its pilot, else all it takes.
         let first_block = if adaptive { pilot } else { limit };
+        // Else, for an adaptive pixel where the survey found room, a lamp's
+        // disc on the lens that its pilot may miss (stratified sampler only).
+        let mut lamp = match pixel_cut {
+            None if !self.lamps.is_empty() && adaptive && self.rules & LAMP_PARTS_RULE != 0 => {
+                self.lamps.pixel(col, row, self.camera.aperture(), first_block)
+            }
+            _ => None,
+        };
+        let mut parts = pixel_cut.map(|q| q.shares).or(lamp.map(|l| l.shares));
         let mut spread = 0;
         let mut n = 0;
         // Stratified rays stand for a stratum each: with adaptive sampling,
@@ -1464,17 +1521,34 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let track = !adaptive && gaps && self.extends();
         let (mut lo, mut hi, mut wide_at) = ([u32::MAX; 3], [0u32; 3], 0u32);
         let mut textured = false;
-        while n < limit {
-            let mut p_lens = lens.next(self.camera.aperture());
-            let mut part = parts.map_or(0, |q| q.part(self.cut.sigma(p_lens)));
+        // A ray drawn in a lamp's part beyond the sequence's (see [`lamps`]):
+        // due, cast, and the spread it sets where it moves the mean by a level.
+        let (mut lamp_due, mut lamp_cast, mut lamp_spread) = (false, 0u32, None);
+        // (Compiled out on the micro:bit: its flash.)
+        let lamps_on = !cfg!(feature = "no-lamp-parts");
+        while n < limit || (lamps_on && lamp_due) {
+            let extra = lamps_on && core::mem::take(&mut lamp_due);
+            let (mut p_lens, unit) = match lamp.filter(|_| extra) {
+                Some(l) => {
+                    let unit = l.point_at(lens.draw_u32());
+                    (self.camera.aperture().map_q16(unit.0, unit.1), Some(unit))
+                }
+                None if lamps_on => lens.next_point(self.camera.aperture()),
+                None => (lens.next(self.camera.aperture()), None),
+            };
+            let mut part = match (pixel_cut, lamp, unit) {
+                (Some(q), _, _) => q.part(self.cut.sigma(p_lens)),
+                (None, Some(l), Some(unit)) => l.part(unit),
+                _ => 0,
+            };
             // The first block's last ray where a part of a cut lens has none
             // of it: one from that part in its place, so that it has a mean.
             let mut forced = false;
             if let Some(q) = parts.filter(|_| n + 1 == first_block && first_block >= cut::FORCE_MIN_BLOCK) {
                 let mut after = counts;
                 after[part] += 1;
-                if let Some(k) = q.starved(&after) {
-                    let keep = |p| q.part(self.cut.sigma(p)) == k;
+                if let (Some(k), Some(c)) = (q.starved(&after), pixel_cut) {
+                    let keep = |p| c.part(self.cut.sigma(p)) == k;
                     if let Some(p) = lens.draw_where(self.camera.aperture(), cut::FORCE_TRIES, keep) {
                         (p_lens, part, forced) = (p, k, true);
                     }
@@ -1517,10 +1591,24 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 S::acc_add(sum[2], c.z),
             ];
             counts[part] += 1;
-            if adaptive {
-                stats.add(n, check, c);
+            if extra {
+                lamp_cast = 1;
+                forced = true;
+                let level = |k: usize| S::acc_mean(sums[0][k], counts[0]).to_level();
+                let x = [c.x.to_level(), c.y.to_level(), c.z.to_level()];
+                lamp_spread = lamp.and_then(|l| lamps::spread([level(0), level(1), level(2)], x, l.shares.0[1]));
+                if lamp_spread.is_none() {
+                    // It shows what the block's rays show: left out, and the
+                    // rays weighed alike (its noise cost near-exact frames:
+                    // seed 11734 -0.37 dB).
+                    (sums[1], counts[1], parts, lamp) = ([S::acc_zero(); 3], 0, None, None);
+                }
+            } else {
+                if adaptive {
+                    stats.add(n, check, c);
+                }
+                n += 1;
             }
-            n += 1;
             if track {
                 let levels = [c.x.to_level(), c.y.to_level(), c.z.to_level()];
                 // A forced ray is from another part of the lens by design: no
@@ -1539,11 +1627,27 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                     }
                 }
             }
+            // The first block put no ray in the lamp's part: one more, there,
+            // before the check (in place of one of the block's, it cost
+            // near-exact frames their stratification: seed 11734 -3.9 dB).
+            if lamps_on
+                && !extra
+                && n == first_block
+                && first_block >= cut::FORCE_MIN_BLOCK
+                && lamp.is_some()
+                && counts[1] == 0
+            {
+                lamp_due = true;
+                continue;
+            }
             if adaptive && n == check && n < self.samples {
                 // Its share beyond the pilot: the frame's, times its spread
                 // over the survey's mean (samples ∝ the standard deviation:
-                // the least total variance for the rays).
-                let Some(own) = stats.settled(n, self.samples) else {
+                // the least total variance for the rays). Settled, it still
+                // goes on where the lamp's ray, weighed by its part's share,
+                // moves the mean by a level.
+                let settled = stats.settled(n, self.samples).or(lamp_spread.filter(|_| n == pilot));
+                let Some(own) = settled else {
                     // Settled at the plain pilot in a frame with rays to
                     // spare: on to the floor without further checks, then stop.
                     if !cfg!(feature = "no-spare-floor") && n == pilot && !risk && self.floor > n {
@@ -1586,7 +1690,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         } else {
             0
         } | if textured { scanline::TEXTURED } else { 0 };
-        (colour, n, if track { wide_at } else { spread }, class)
+        let lamp = lamp_cast as u8 + lamp_spread.is_some() as u8;
+        (colour, n + lamp_cast, if track { wide_at } else { spread }, class, lamp)
     }
 
     /// The cap of an unsettled pixel of pilot `pilot` and spread `spread`

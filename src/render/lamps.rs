@@ -1,0 +1,542 @@
+//! A lamp seen through part of the lens, made a part of its own.
+//!
+//! A pixel's rays all pass through its point in focus P (depth z_f). At a
+//! lamp's depth d the ray from lens point L is at (1 − k) L + k P, k = d/z_f,
+//! so it comes within ρ of the lamp's centre Q (its bounding sphere, radius
+//! ρ) only if L lies in a disc of centre (Q − k P)/(1 − k) and radius about
+//! ρ/|1 − k| on the lens: the lamp's *lens disc*, whose centre moves with the
+//! pixel, linearly (P's u with the column, its v with the row). A lamp far
+//! out of focus reaches the pixels of its bokeh through a small disc (seen
+//! from `camera-features`' bokeh at `point` 33, a twentieth of the hexagon),
+//! which a pilot of 8 or 16 stratified rays misses on many pixels; those
+//! settle dark by up to 40 levels.
+//!
+//! So an adaptive pixel whose lens meets a lamp's disc, where its pilot
+//! would put at most two rays in it on average, splits its lens in two: the
+//! disc's *steps* in the stratified sampler's unit square, before the square
+//! is mapped onto the aperture ([`STEPS`] ranges of `v`, the turn or the
+//! place round a polygon's rim, between the tangents from the lens's centre,
+//! each with the range of `u`, radius² over the rim's, that the disc spans
+//! there), and the rest. The steps' share of the lens is their area in the
+//! square, exactly (the map preserves area), so the two parts are weighed by
+//! their shares as a cut lens's are ([`crate::render::cut::Shares`]):
+//! post-stratification, which keeps the mean however the steps fit the lamp.
+//! A pilot that put no ray in the steps casts one more there, uniform over
+//! them ([`PixelLamp::point_at`]); where that ray moves the pixel's mean by a
+//! level ([`spread`]) the pixel is not settled and goes on as far as the
+//! frame's budget lets it, else the ray is left out.
+//!
+//! Per pixel in integers (the same parts in Q16.16 and f32, and on the
+//! boards): the disc's centre from its linear coefficients, the steps from
+//! integer square roots, the aperture's rim and its inverse
+//! ([`Aperture::v_toward`]). Set-up (the coefficients) in f64.
+
+// Without the parts (the micro:bit's build) only the baked form is read.
+#![cfg_attr(feature = "no-lamp-parts", allow(dead_code, unused_imports))]
+
+use crate::camera::aperture::Aperture;
+use crate::camera::sampler::Sampler;
+use crate::number::Scalar;
+use crate::render::cut::Shares;
+use crate::render::footprint::{BrightFootprints, MAX_BRIGHT};
+use crate::scene::Scene;
+
+/// Fixed-point fraction bits of a lens disc's centre coefficients.
+const FRAC: u32 = 16;
+
+/// The largest lens disc radius kept, in Q1.15 lens radii: a lamp nearer
+/// focus reaches much of the lens, which a pilot does not miss.
+const MAX_RADIUS: i64 = 2 * 32768;
+
+/// The most rays a pixel's first block puts in a lamp's part on average, in
+/// 65536ths: beyond one, the block's stratified rays do not miss it.
+const MAX_EXPECTED: u64 = 131072;
+
+/// One lamp's lens disc: centre (`u0` + `du` (2 col + 1), `v0` + `dv` (2 row + 1))
+/// in Q1.15 lens radii times 2¹⁶, radius `r` in Q1.15 lens radii.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct LensDisc {
+    u: [i64; 2],
+    v: [i64; 2],
+    r: i32,
+}
+
+impl crate::bytes::Field for LensDisc {
+    crate::bytes::baked_fields!(LensDisc { u, v, r }, check(d) {
+        if !(0..=MAX_RADIUS as i32).contains(&d.r) {
+            return Err(crate::bytes::BakeError::OutOfRange("lamp's lens disc radius not in 0..=65536"));
+        }
+    });
+}
+
+/// The lens discs of a frame's lamps (the objects of [`BrightFootprints`]
+/// with a bounding sphere wholly in front of the lens), for the stratified
+/// sampler only; none with the feature `no-lamp-parts` (the micro:bit's).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct LampParts {
+    #[cfg(not(feature = "no-lamp-parts"))]
+    discs: [LensDisc; MAX_BRIGHT],
+    /// How many of `discs` are a lamp's.
+    #[cfg(not(feature = "no-lamp-parts"))]
+    count: u32,
+}
+
+#[cfg(not(feature = "no-lamp-parts"))]
+impl crate::bytes::Field for LampParts {
+    crate::bytes::baked_fields!(LampParts { discs, count }, check(l) {
+        if l.count as usize > MAX_BRIGHT {
+            return Err(crate::bytes::BakeError::OutOfRange("more lamps' lens discs than bright objects"));
+        }
+    });
+}
+
+/// Without the parts the discs are read past (the format stays one):
+/// [`BAKED_WORDS`] words, one loop (the micro:bit's flash).
+#[cfg(feature = "no-lamp-parts")]
+impl crate::bytes::Field for LampParts {
+    fn put(&self, w: &mut crate::bytes::Writer<'_>) {
+        for _ in 0..BAKED_WORDS {
+            0u32.put(w);
+        }
+    }
+    fn take(&mut self, r: &mut crate::bytes::Reader<'_>) {
+        let mut word = 0u32;
+        for _ in 0..BAKED_WORDS {
+            word.take(r);
+        }
+    }
+    fn blank() -> Self {
+        Self::NONE
+    }
+}
+
+/// The words baked lamps' discs take (see the `Field` impls): 9 a disc
+/// (two i64 pairs and an i32), and the count.
+const BAKED_WORDS: usize = 9 * MAX_BRIGHT + 1;
+const _: () =
+    assert!(BAKED_WORDS * 4 == MAX_BRIGHT * (2 * core::mem::size_of::<[i64; 2]>() + core::mem::size_of::<i32>()) + 4);
+
+/// Steps of a lamp's part across the turn: each a range of `v` with its own
+/// range of `u`, hugging the lens disc (one box held a hexagon's disc in
+/// twice its area, and a ray drawn in it missed the lamp half the time:
+/// `camera-features` at `point` 33 made 19.5 dB; 8 steps 21.9, 32 24.3, 64
+/// 25.0 within 1.04 of the disc's area, the exact disc 25.8).
+pub const STEPS: usize = 64;
+
+/// A pixel's lamp part: [`STEPS`] steps of `step` in `v` from `v0` (round
+/// the square), each a range of `u` (first and last; none where the first
+/// is above the last), in 2⁻¹⁶ of the unit square, and the two parts' shares.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct PixelLamp {
+    v0: u32,
+    step: u32,
+    u: [(u16, u16); STEPS],
+    /// Outside the steps, inside them, and no third part.
+    pub(crate) shares: Shares,
+}
+
+impl PixelLamp {
+    /// The part of the unit-square point `(u, v)`: 1 in a step, else 0.
+    #[inline]
+    pub fn part(&self, (u, v): (u16, u16)) -> usize {
+        let dv = v.wrapping_sub(self.v0 as u16) as u32;
+        match self.u.get((dv / self.step.max(1)) as usize) {
+            Some(&(lo, last)) => (lo <= u && u <= last) as usize,
+            None => 0,
+        }
+    }
+
+    /// The point of the steps at `at` of their area (a 32-bit fraction):
+    /// uniform over them for `at` uniform.
+    pub fn point_at(&self, at: u32) -> (u16, u16) {
+        let step = self.step.max(1) as u64;
+        let width = |(lo, last): (u16, u16)| (last as u64 + 1).saturating_sub(lo as u64);
+        let area: u64 = self.u.iter().map(|&l| width(l) * step).sum();
+        let mut left = (at as u64 * area) >> 32;
+        for (j, &(lo, last)) in self.u.iter().enumerate() {
+            let here = width((lo, last)) * step;
+            if left < here {
+                let (du, dv) = (left / step, left % step);
+                let v = self.v0 as u64 + j as u64 * step + dv;
+                return ((lo as u64 + du) as u16, v as u16);
+            }
+            left -= here;
+        }
+        (0, self.v0 as u16)
+    }
+}
+
+impl LampParts {
+    /// No lamp parts.
+    #[cfg(not(feature = "no-lamp-parts"))]
+    pub const NONE: LampParts = LampParts {
+        discs: [LensDisc {
+            u: [0; 2],
+            v: [0; 2],
+            r: 0,
+        }; MAX_BRIGHT],
+        count: 0,
+    };
+    /// No lamp parts (the only ones without them).
+    #[cfg(feature = "no-lamp-parts")]
+    pub const NONE: LampParts = LampParts {};
+
+    /// The lens discs of `scene`'s lamps: none without the parts.
+    #[cfg(feature = "no-lamp-parts")]
+    pub fn new<S: Scalar>(_scene: &Scene<S>, _bright: &BrightFootprints, _cols: u32, _rows: u32) -> Self {
+        Self::NONE
+    }
+
+    /// Whether the frame has any lamp's lens disc: never without the parts.
+    #[cfg(feature = "no-lamp-parts")]
+    #[inline(always)]
+    pub fn is_empty(&self) -> bool {
+        true
+    }
+
+    /// No pixel has a lamp part without them.
+    #[cfg(feature = "no-lamp-parts")]
+    #[inline(always)]
+    pub fn pixel(&self, _col: u32, _row: u32, _aperture: &Aperture, _block: u32) -> Option<PixelLamp> {
+        None
+    }
+
+    /// The lens discs of `scene`'s lamps (see `bright`) at `cols` × `rows`
+    /// pixels. Set-up only, in f64.
+    #[cfg(not(feature = "no-lamp-parts"))]
+    pub fn new<S: Scalar>(scene: &Scene<S>, bright: &BrightFootprints, cols: u32, rows: u32) -> Self {
+        let mut out = Self::NONE;
+        let cam = &scene.camera;
+        let a = cam.radius;
+        if cam.sampler != Sampler::Stratified || a.is_nan() || a <= 0.0 {
+            return out;
+        }
+        let Some([u, v, n]) = crate::camera::basis(cam) else {
+            return out;
+        };
+        let z_f = cam.focus_depth();
+        let big_n = cam.image_distance;
+        if !(z_f > 0.0 && z_f.is_finite() && big_n > 0.0) {
+            return out;
+        }
+        let p = cam.width / cols.max(1) as f64;
+        let (half_w, half_h) = (cam.width / 2.0, p * rows.max(1) as f64 / 2.0);
+        let dot = |x: [f64; 3], y: [f64; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+        for (i, obj) in scene.objects.iter().enumerate() {
+            let Some((centre, rho)) = obj.bound().filter(|_| bright.is_bright(i)) else {
+                continue;
+            };
+            let (c, rho) = (centre.to_f64(), rho.to_f64());
+            let w = [0, 1, 2].map(|k| c[k] - cam.lens_position[k]);
+            let (qu, qv, d) = (dot(w, u), dot(w, v), -dot(w, n));
+            let k = d / z_f;
+            // Straddling the lens plane or behind it (NaN too), or in focus.
+            if d - rho <= 0.0 || d.is_nan() || (1.0 - k).abs() < 1e-3 {
+                continue;
+            }
+            // Lens radii, Q1.15.
+            let s = 32768.0 / a / (1.0 - k);
+            // Lines at angle α to the axis pass within ρ of Q where their
+            // depth plane's point is within ρ / cos α of it.
+            let r = rho * libm::sqrt(dot(w, w)) / d * s.abs();
+            // P = (z_f (x p − half_w) / N, z_f (half_h − y p) / N) at x = col + ½, y = row + ½.
+            let g = k * z_f * p / (2.0 * big_n) * s;
+            let fixed = |x: f64| x * (1u64 << FRAC) as f64;
+            let coefficients = [
+                (qu + k * z_f * half_w / big_n) * s,
+                -g,
+                (qv - k * z_f * half_h / big_n) * s,
+                g,
+            ];
+            let fits = |x: f64| x.is_finite() && fixed(x.abs()) < (1u64 << 62) as f64;
+            if !r.is_finite() || r >= MAX_RADIUS as f64 || !coefficients.iter().all(|&x| fits(x)) {
+                continue;
+            }
+            let [u0, du, v0, dv] = coefficients.map(|x| libm::round(fixed(x)) as i64);
+            let disc = LensDisc {
+                u: [u0, du],
+                v: [v0, dv],
+                r: (libm::ceil(r) as i32).max(1),
+            };
+            match out.discs.get_mut(out.count as usize) {
+                Some(slot) => *slot = disc,
+                None => break,
+            }
+            out.count += 1;
+        }
+        out
+    }
+
+    /// Whether the frame has any lamp's lens disc.
+    #[cfg(not(feature = "no-lamp-parts"))]
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// Pixel (`col`, `row`)'s lamp part on `aperture`: of the lamps whose
+    /// lens disc reaches the lens, the one whose box is the smallest share
+    /// of the lens of at least [`crate::render::cut::FORCE_MIN_SHARE`] and at
+    /// most a half, if any.
+    #[cfg(not(feature = "no-lamp-parts"))]
+    pub fn pixel(&self, col: u32, row: u32, aperture: &Aperture, block: u32) -> Option<PixelLamp> {
+        if self.is_empty() {
+            return None;
+        }
+        let (i, j) = (2 * col.min(1 << 16) as i64 + 1, 2 * row.min(1 << 16) as i64 + 1);
+        let mut best: Option<PixelLamp> = None;
+        for d in self.discs.iter().take(self.count as usize) {
+            // Beyond 2²⁴ lens radii the disc is far off the lens: clamped.
+            let at =
+                |c: [i64; 2], t: i64| (c[0].saturating_add(c[1].saturating_mul(t)) >> FRAC).clamp(-1 << 40, 1 << 40);
+            let Some(lamp) = lens_steps(at(d.u, i), at(d.v, j), d.r as i64, aperture) else {
+                continue;
+            };
+            let share = lamp.shares.0[1];
+            if share >= crate::render::cut::FORCE_MIN_SHARE
+                && share as u64 * block as u64 <= MAX_EXPECTED
+                && best.is_none_or(|b| share < b.shares.0[1])
+            {
+                best = Some(lamp);
+            }
+        }
+        best
+    }
+}
+
+/// Where one ray in a lamp's part of the lens (a share `share` of it,
+/// 65536ths), of levels `x`, moves a pixel's mean of levels `mean` by a
+/// level or more on some channel if the part is what it saw: the spread of
+/// a sample that the part sets (D √share, D the channels' summed
+/// difference, in sixteenths of a level), at least 1; else `None`.
+pub fn spread(mean: [u32; 3], x: [u32; 3], share: u32) -> Option<u32> {
+    let (mut far, mut sum) = (false, 0u64);
+    for (m, x) in mean.into_iter().zip(x) {
+        let d = x.abs_diff(m) as u64;
+        far |= d * share as u64 >= 1 << 16;
+        sum += d;
+    }
+    far.then(|| ((sum * crate::camera::aperture::isqrt_u32(share) as u64) >> 4).clamp(1, u32::MAX as u64) as u32)
+}
+
+/// The steps of the unit square that hold the lens disc of centre (`x`,
+/// `y`) and radius `r` (Q1.15 lens radii) as `aperture`'s map lays the
+/// square on the lens, with their share; `None` where the disc misses the
+/// lens's circle. Along a direction e the disc spans t± = c·ê ± √(r² −
+/// (c×ê)²), t₋ growing and t₊ shrinking away from the centre's direction:
+/// a step's extremes are at its edge nearer that direction, or ρ ∓ r where
+/// the step holds it; u = (t / rim)², the rim bounded over the step.
+fn lens_steps(x: i64, y: i64, r: i64, aperture: &Aperture) -> Option<PixelLamp> {
+    const ONE: i64 = 32768;
+    if x.abs() >= ONE + r || y.abs() >= ONE + r {
+        return None;
+    }
+    let d2 = x * x + y * y;
+    if d2 >= (ONE + r) * (ONE + r) {
+        return None;
+    }
+    let rho = isqrt_u64(d2 as u64) as i64;
+    let holds_centre = d2 <= r * r;
+    // The turn's range: the tangents from the lens's centre, turned by ± asin(r / ρ).
+    let (v0, width) = if holds_centre {
+        (0u32, 1u32 << 16)
+    } else {
+        let t = isqrt_u64((d2 - r * r) as u64) as i64;
+        let lo = aperture.v_toward(x * t + y * r, y * t - x * r);
+        let hi = aperture.v_toward(x * t - y * r, y * t + x * r);
+        // Margins of 2 units for the inverse rim's roundings (any range is a part).
+        (
+            lo.wrapping_sub(2) as u32 & 0xFFFF,
+            (hi.wrapping_sub(lo) as u32 + 5).min(1 << 16),
+        )
+    };
+    // Steps within one turn: no point counted twice.
+    let step = width.div_ceil(STEPS as u32).min((1 << 16) / STEPS as u32);
+    let v_centre = if d2 > 0 { aperture.v_toward(x, y) } else { 0 };
+    let blades = aperture.blades();
+    let m = aperture.inradius_q15().max(1) as i64;
+    let length = |e: (i64, i64)| isqrt_u64((e.0 * e.0 + e.1 * e.1) as u64) as i64;
+    // Whether v = w lies in [a, a + step) round the square.
+    let within = |w: u32, a: u32| (w.wrapping_sub(a) & 0xFFFF) < step;
+    // A step's edge at `v`: its rim's length and the disc's span t± along it, if it meets the disc.
+    let edge = |v: u32| {
+        let (ex, ey) = aperture.rim((v & 0xFFFF) as u16);
+        let (ex, ey) = (ex as i64, ey as i64);
+        let el = length((ex, ey)).max(1);
+        // |c| < 2¹⁷ and |e| <= 2¹⁵: |c × e| < 2³², its square a u64, as (r |e|)² <= 2⁶².
+        let (along, across) = (x * ex + y * ey, (x * ey - y * ex).unsigned_abs());
+        let (reach, across) = (((r * el) as u64).pow(2), across * across);
+        let span = (reach >= across).then(|| {
+            let s = isqrt_u64(reach - across) as i64;
+            ((along - s) / el, (along + s) / el)
+        });
+        (el, span)
+    };
+    // Empty steps: first above last.
+    let mut u = [(1u16, 0u16); STEPS];
+    let mut inside = 0u64;
+    let mut a = edge(v0);
+    for (j, out) in u.iter_mut().enumerate() {
+        let va = (v0 + j as u32 * step) & 0xFFFF;
+        let b = edge(va + step);
+        let (mut rim_lo, mut rim_hi) = (a.0.min(b.0), a.0.max(b.0));
+        if blades > 0 {
+            let n = blades;
+            // A corner within the step reaches the circle; a chord's middle, the inradius.
+            if (0..n).any(|k| within((k << 16) / n, va)) {
+                rim_hi = ONE;
+            }
+            if (0..n).any(|k| within(((2 * k + 1) << 15) / n, va)) {
+                rim_lo = rim_lo.min(m);
+            }
+        }
+        let (mut t_lo, mut t_hi) = (i64::MAX, i64::MIN);
+        if holds_centre {
+            t_lo = 0;
+        }
+        if d2 == 0 || within(v_centre as u32, va) {
+            (t_lo, t_hi) = (t_lo.min(rho - r), t_hi.max(rho + r));
+        }
+        for (lo, hi) in [a.1, b.1].into_iter().flatten() {
+            (t_lo, t_hi) = (t_lo.min(lo), t_hi.max(hi));
+        }
+        a = b;
+        if t_hi < t_lo {
+            continue;
+        }
+        let u_of = |t: i64, rim: i64| {
+            let q = (t.max(0) << 15) / rim.max(1);
+            ((q * q) >> 14).min(1 << 16)
+        };
+        // Margins for the roundings (a unit of t is 4 of u at the rim); within
+        // 16 bits (any range is a part).
+        let lo = (u_of(t_lo, rim_hi) - 12).clamp(0, 0xFFFF);
+        let last = (u_of(t_hi, rim_lo) + 12).clamp(lo, 0xFFFF);
+        *out = (lo as u16, last as u16);
+        inside += (last - lo + 1) as u64 * step as u64;
+    }
+    // Its share of the lens, 65536ths: the steps' area in the square, rounded.
+    let inside = ((inside + (1 << 15)) >> 16).min(1 << 16) as u32;
+    Some(PixelLamp {
+        v0,
+        step,
+        u,
+        shares: Shares([(1 << 16) - inside, inside, 0]),
+    })
+}
+
+/// ⌊√x⌋ of a u64, bit by bit.
+fn isqrt_u64(x: u64) -> u64 {
+    let (mut x, mut root) = (x, 0u64);
+    let mut bit = 1u64 << 62;
+    while bit > x {
+        bit >>= 2;
+    }
+    while bit != 0 {
+        if x >= root + bit {
+            x -= root + bit;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+        bit >>= 2;
+    }
+    root
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Points of the unit square the aperture maps into a lens disc lie in
+    /// the disc's box: the box holds the lamp (the weighing is right whatever
+    /// it holds; a box that misses the lamp would not find it).
+    #[test]
+    fn the_box_holds_the_lens_disc() {
+        let mut next = crate::test_rng::unit_f64(0x1a_3b_5c);
+        for (blades, rot) in [(0u32, 0.0), (6, 15.0), (3, 90.0), (5, -30.0), (8, 7.0)] {
+            let ap = Aperture::regular(blades, rot);
+            for case in 0..1500 {
+                let r = (0.02 + 0.6 * next()) * 32768.0;
+                let (rho, th) = (1.3 * next() * 32768.0, 2.0 * core::f64::consts::PI * next());
+                let (x, y) = ((rho * libm::cos(th)) as i64, (rho * libm::sin(th)) as i64);
+                let Some(b) = lens_steps(x, y, r as i64, &ap) else {
+                    continue;
+                };
+                let (mut inside, mut held) = (0u32, 0u32);
+                for i in 0..20_000u32 {
+                    let (u, v) = ((next() * 65536.0) as u16, (next() * 65536.0) as u16);
+                    let _ = i;
+                    let p = ap.map_q16(u, v);
+                    let (dx, dy) = (p.0 as f64 - x as f64, p.1 as f64 - y as f64);
+                    if dx * dx + dy * dy < r * r {
+                        inside += 1;
+                        held += b.part((u, v)) as u32;
+                    }
+                }
+                assert_eq!(
+                    held, inside,
+                    "blades {blades} case {case}: disc ({x}, {y}) r {r:.0}: {b:?}"
+                );
+            }
+        }
+    }
+
+    /// The steps hug the disc (within a tenth of its area on the lens; one
+    /// box held a hexagon's disc in twice its area), their share is their
+    /// area in the unit square, and `point_at` draws in them, uniformly.
+    #[test]
+    fn the_steps_hug_the_disc_and_their_share_is_their_area() {
+        let mut next = crate::test_rng::unit_f64(0x57e9_5a3e);
+        for (blades, rot) in [(0u32, 0.0), (6, 15.0), (5, -30.0)] {
+            let ap = Aperture::regular(blades, rot);
+            for (rho, r) in [(0.6, 0.24), (0.3, 0.24), (0.9, 0.24), (0.6, 0.1), (0.1, 0.05)] {
+                let (x, y) = ((rho * 32768.0 * 0.8) as i64, (rho * 32768.0 * 0.6) as i64);
+                let rr = r * 32768.0;
+                let steps = lens_steps(x, y, rr as i64, &ap).unwrap();
+                let (mut disc, mut part, mut total) = (0u32, 0u32, 0u32);
+                for u in (0..65536u32).step_by(97) {
+                    for v in (0..65536u32).step_by(89) {
+                        let p = ap.map_q16(u as u16, v as u16);
+                        let (dx, dy) = (p.0 as f64 - x as f64, p.1 as f64 - y as f64);
+                        disc += (dx * dx + dy * dy < rr * rr) as u32;
+                        part += steps.part((u as u16, v as u16)) as u32;
+                        total += 1;
+                    }
+                }
+                let ratio = part as f64 / disc as f64;
+                assert!(
+                    (1.0..1.1).contains(&ratio),
+                    "blades {blades}, ρ {rho}, r {r}: {ratio:.3}"
+                );
+                let share = steps.shares.0[1] as f64 / 65536.0;
+                let seen = part as f64 / total as f64;
+                assert!(
+                    (share - seen).abs() < 4.0 * (share / total as f64).sqrt() + 2e-4,
+                    "{share} {seen}"
+                );
+                // Drawn points: all in the steps, spread over them as their areas.
+                let mut by_step = [0u32; STEPS];
+                for _ in 0..20_000 {
+                    let (u, v) = steps.point_at((next() * 4294967296.0) as u32);
+                    assert_eq!(steps.part((u, v)), 1);
+                    let j = (v.wrapping_sub(steps.v0 as u16) as u32 / steps.step) as usize;
+                    by_step[j] += 1;
+                }
+                let area: u64 = steps
+                    .u
+                    .iter()
+                    .map(|&(lo, last)| (last as u64 + 1).saturating_sub(lo as u64))
+                    .sum();
+                for (j, &(lo, last)) in steps.u.iter().enumerate() {
+                    let want = 20_000.0 * (last as f64 + 1.0 - lo as f64).max(0.0) / area as f64;
+                    assert!(
+                        (by_step[j] as f64 - want).abs() <= 5.0 * want.sqrt() + 1.0,
+                        "step {j}: {} vs {want:.1}",
+                        by_step[j]
+                    );
+                }
+            }
+        }
+    }
+}
