@@ -32,8 +32,10 @@
 use crate::camera::aperture::Aperture;
 #[cfg(not(feature = "no-lens-cut"))]
 use crate::camera::sampler::{PixelSamples, Sampler};
+#[cfg(not(feature = "no-lens-cut"))]
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
+use crate::render::parts::Shares;
 #[cfg(not(feature = "no-lens-cut"))]
 use crate::scene::shape::Shape;
 use crate::scene::Scene;
@@ -53,15 +55,7 @@ pub const SHARE_BINS: usize = 64;
 const BIN_SHIFT: u32 = 25;
 const SIGMA_SPAN: i64 = 1 << 30;
 
-/// The fewest rays in a pixel's first block (its pilot, or all it takes)
-/// for its last ray to be drawn in a part of the lens none of the others
-/// fell in: with fewer, the other parts would lose too much of their
-/// stratification.
-pub const FORCE_MIN_BLOCK: u32 = 4;
-
-/// The smallest share of the aperture (65536ths) a part must have for a
-/// ray to be drawn there: 1/256.
-pub const FORCE_MIN_SHARE: u32 = 256;
+pub use crate::render::parts::{FORCE_MIN_BLOCK, FORCE_MIN_SHARE};
 
 /// Draws of the pixel's register that look for a point in a part of the
 /// lens (a share f of the aperture: all miss with probability (1 − f)^128,
@@ -102,12 +96,6 @@ pub struct PixelCut {
     /// Each part's share of the aperture.
     pub(crate) shares: Shares,
 }
-
-/// Each of a pixel's (at most three) parts of the lens by its share of the
-/// aperture, 65536ths: a cut lens's, or a lamp's and the rest (see
-/// [`crate::render::lamps`]).
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub struct Shares(pub [u32; 3]);
 
 impl LensCut {
     /// No cut.
@@ -283,39 +271,6 @@ impl PixelCut {
     }
 }
 
-impl Shares {
-    /// The part of at least [`FORCE_MIN_SHARE`] of the lens with the largest
-    /// share among those `counts` says have no ray yet, if any.
-    #[inline]
-    pub fn starved(&self, counts: &[u32; 3]) -> Option<usize> {
-        (0..3)
-            .filter(|&k| counts[k] == 0 && self.0[k] >= FORCE_MIN_SHARE)
-            .max_by_key(|&k| self.0[k])
-    }
-
-    /// The pixel's colour from each part's sum and count of rays: each
-    /// part's mean weighed by its share of the lens, over the parts that
-    /// have rays (`n` rays in all, at least one).
-    #[inline]
-    pub fn mean<S: Scalar>(&self, sums: &[[S::Acc; 3]; 3], counts: &[u32; 3]) -> Vec3<S> {
-        let seen: u32 = (0..3).filter(|&k| counts[k] > 0).map(|k| self.0[k]).sum();
-        let mut out = [S::ZERO; 3];
-        for k in (0..3).filter(|&k| counts[k] > 0) {
-            // Its share of the parts seen, Q1.15 (seen > 0: a part with rays has lens).
-            let w = S::from_q15(
-                ((self.0[k] as u64) << 15)
-                    .checked_div(seen as u64)
-                    .unwrap_or(0)
-                    .min(32768) as i32,
-            );
-            for (c, o) in out.iter_mut().enumerate() {
-                *o = o.add(S::acc_mean(sums[k][c], counts[k]).mul(w));
-            }
-        }
-        Vec3::new(out[0], out[1], out[2])
-    }
-}
-
 #[cfg(not(feature = "no-lens-cut"))]
 impl crate::bytes::Field for LensCut {
     crate::bytes::baked_fields!(LensCut { line, focus, table }, check(cut) {
@@ -472,23 +427,6 @@ mod tests {
                 checked > 5000 && middle > 500 && checked - middle > 500,
                 "{checked} {middle}"
             );
-        }
-
-        /// Each part's mean weighs its share of the parts that have rays.
-        #[test]
-        fn each_part_weighs_its_share() {
-            let q = Shares([16384, 0, 49152]);
-            let sums = [[2.0f64; 3], [0.0; 3], [1.2; 3]];
-            // Two rays of 1, six of 0.2: a quarter and three quarters of the lens.
-            let m = q.mean::<f32>(&sums, &[2, 0, 6]);
-            assert!((m.x - (0.25 + 0.75 * 0.2)).abs() < 1e-4, "{}", m.x);
-            let q = Shares([6554, 32768, 26214]);
-            // The middle part unseen: the others by their shares of what is seen.
-            let m = q.mean::<f32>(&sums, &[2, 0, 6]);
-            let w = 6554.0 / (6554.0 + 26214.0);
-            assert!((m.x - (w + (1.0 - w) * 0.2)).abs() < 1e-4, "{}", m.x);
-            assert_eq!(q.starved(&[2, 0, 6]), Some(1));
-            assert_eq!(q.starved(&[2, 1, 6]), None);
         }
     }
 }

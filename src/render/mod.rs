@@ -23,6 +23,7 @@ pub mod cut;
 pub mod defocus;
 pub mod footprint;
 pub mod lamps;
+pub mod parts;
 pub mod progressive;
 pub mod scanline;
 mod trace;
@@ -1544,7 +1545,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             // The first block's last ray where a part of a cut lens has none
             // of it: one from that part in its place, so that it has a mean.
             let mut forced = false;
-            if let Some(q) = parts.filter(|_| n + 1 == first_block && first_block >= cut::FORCE_MIN_BLOCK) {
+            if let Some(q) = parts.filter(|_| n + 1 == first_block && first_block >= parts::FORCE_MIN_BLOCK) {
                 let mut after = counts;
                 after[part] += 1;
                 if let (Some(k), Some(c)) = (q.starved(&after), pixel_cut) {
@@ -1633,7 +1634,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             if lamps_on
                 && !extra
                 && n == first_block
-                && first_block >= cut::FORCE_MIN_BLOCK
+                && first_block >= parts::FORCE_MIN_BLOCK
                 && lamp.is_some()
                 && counts[1] == 0
             {
