@@ -282,26 +282,11 @@ impl crate::bytes::Field for LensCut {
     });
 }
 
-/// Without the weighing the cut is read past (the format stays one): its
-/// bytes are 74 words (3 of the line, 6 of the focus's three i64, 65 of
-/// the table), read as such (one loop: the micro:bit's flash).
+// Without the weighing the cut is read past (the format stays one): its
+// bytes are 74 words (3 of the line, 6 of the focus's three i64, 65 of
+// the table), read as such (one loop: the micro:bit's flash).
 #[cfg(feature = "no-lens-cut")]
-impl crate::bytes::Field for LensCut {
-    fn put(&self, w: &mut crate::bytes::Writer<'_>) {
-        for _ in 0..BAKED_WORDS {
-            0u32.put(w);
-        }
-    }
-    fn take(&mut self, r: &mut crate::bytes::Reader<'_>) {
-        let mut word = 0u32;
-        for _ in 0..BAKED_WORDS {
-            word.take(r);
-        }
-    }
-    fn blank() -> Self {
-        Self::NONE
-    }
-}
+crate::bytes::read_past_field!(LensCut, BAKED_WORDS);
 
 /// The words a baked cut takes (see the `Field` impls).
 const BAKED_WORDS: usize = 3 + 6 + SHARE_BINS + 1;

@@ -41,6 +41,11 @@ use crate::render::footprint::{BrightFootprints, MAX_BRIGHT};
 use crate::render::parts::{Shares, FORCE_MIN_SHARE};
 use crate::scene::Scene;
 
+/// ⌊√x⌋ (the library's one 64-bit integer square root).
+fn isqrt(x: u64) -> u64 {
+    crate::number::wide::isqrt_rem_u64(x).0
+}
+
 /// Fixed-point fraction bits of a lens disc's centre coefficients.
 const FRAC: u32 = 16;
 
@@ -91,25 +96,10 @@ impl crate::bytes::Field for LampParts {
     });
 }
 
-/// Without the parts the discs are read past (the format stays one):
-/// [`BAKED_WORDS`] words, one loop (the micro:bit's flash).
+// Without the parts the discs are read past (the format stays one):
+// [`BAKED_WORDS`] words, one loop (the micro:bit's flash).
 #[cfg(feature = "no-lamp-parts")]
-impl crate::bytes::Field for LampParts {
-    fn put(&self, w: &mut crate::bytes::Writer<'_>) {
-        for _ in 0..BAKED_WORDS {
-            0u32.put(w);
-        }
-    }
-    fn take(&mut self, r: &mut crate::bytes::Reader<'_>) {
-        let mut word = 0u32;
-        for _ in 0..BAKED_WORDS {
-            word.take(r);
-        }
-    }
-    fn blank() -> Self {
-        Self::NONE
-    }
-}
+crate::bytes::read_past_field!(LampParts, BAKED_WORDS);
 
 /// The words baked lamps' discs take (see the `Field` impls): 9 a disc
 /// (two i64 pairs and an i32), and the count.
@@ -336,13 +326,13 @@ fn lens_steps(x: i64, y: i64, r: i64, aperture: &Aperture) -> Option<PixelLamp> 
     if d2 >= (ONE + r) * (ONE + r) {
         return None;
     }
-    let rho = isqrt_u64(d2 as u64) as i64;
+    let rho = isqrt(d2 as u64) as i64;
     let holds_centre = d2 <= r * r;
     // The turn's range: the tangents from the lens's centre, turned by ± asin(r / ρ).
     let (v0, width) = if holds_centre {
         (0u32, 1u32 << 16)
     } else {
-        let t = isqrt_u64((d2 - r * r) as u64) as i64;
+        let t = isqrt((d2 - r * r) as u64) as i64;
         let lo = aperture.v_toward(x * t + y * r, y * t - x * r);
         let hi = aperture.v_toward(x * t - y * r, y * t + x * r);
         // Margins of 2 units for the inverse rim's roundings (any range is a part).
@@ -356,7 +346,7 @@ fn lens_steps(x: i64, y: i64, r: i64, aperture: &Aperture) -> Option<PixelLamp> 
     let v_centre = if d2 > 0 { aperture.v_toward(x, y) } else { 0 };
     let blades = aperture.blades();
     let m = aperture.inradius_q15().max(1) as i64;
-    let length = |e: (i64, i64)| isqrt_u64((e.0 * e.0 + e.1 * e.1) as u64) as i64;
+    let length = |e: (i64, i64)| isqrt((e.0 * e.0 + e.1 * e.1) as u64) as i64;
     // Whether v = w lies in [a, a + step) round the square.
     let within = |w: u32, a: u32| (w.wrapping_sub(a) & 0xFFFF) < step;
     // A step's edge at `v`: its rim's length and the disc's span t± along it, if it meets the disc.
@@ -368,7 +358,7 @@ fn lens_steps(x: i64, y: i64, r: i64, aperture: &Aperture) -> Option<PixelLamp> 
         let (along, across) = (x * ex + y * ey, (x * ey - y * ex).unsigned_abs());
         let (reach, across) = (((r * el) as u64).pow(2), across * across);
         let span = (reach >= across).then(|| {
-            let s = isqrt_u64(reach - across) as i64;
+            let s = isqrt(reach - across) as i64;
             ((along - s) / el, (along + s) / el)
         });
         (el, span)
@@ -424,25 +414,6 @@ fn lens_steps(x: i64, y: i64, r: i64, aperture: &Aperture) -> Option<PixelLamp> 
         u,
         shares: Shares([(1 << 16) - inside, inside, 0]),
     })
-}
-
-/// ⌊√x⌋ of a u64, bit by bit.
-fn isqrt_u64(x: u64) -> u64 {
-    let (mut x, mut root) = (x, 0u64);
-    let mut bit = 1u64 << 62;
-    while bit > x {
-        bit >>= 2;
-    }
-    while bit != 0 {
-        if x >= root + bit {
-            x -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
-        }
-        bit >>= 2;
-    }
-    root
 }
 
 #[cfg(test)]
