@@ -266,32 +266,43 @@ impl LampParts {
     }
 
     /// Pixel (`col`, `row`)'s lamp part on `aperture`: of the lamps whose
-    /// lens disc reaches the lens, the one whose steps are the smallest share
-    /// of it, of at least [`FORCE_MIN_SHARE`] and where
-    /// a first block of `block` rays puts at most two there on average, if any.
+    /// lens disc reaches the lens, the smallest disc whose steps are at
+    /// least [`FORCE_MIN_SHARE`] of the lens and where a first block of
+    /// `block` rays puts at most two on average, if any.
+    // Out of line: its steps' locals then stay out of the frame held under
+    // every pixel (1.7 KB more of the Cortex-M3's stack inlined).
     #[cfg(not(feature = "no-lamp-parts"))]
+    #[inline(never)]
     pub fn pixel(&self, col: u32, row: u32, aperture: &Aperture, block: u32) -> Option<PixelLamp> {
         if self.is_empty() {
             return None;
         }
         let (i, j) = (2 * col.min(1 << 16) as i64 + 1, 2 * row.min(1 << 16) as i64 + 1);
-        let mut best: Option<PixelLamp> = None;
+        // Far off the lens (beyond 2²⁵ lens radii): clamped.
+        let at = |c: [i64; 2], t: i64| (c[0].saturating_add(c[1].saturating_mul(t)) >> FRAC).clamp(-1 << 40, 1 << 40);
+        // The discs that reach the lens's circle, the smallest first (the
+        // steps cost the Cortex-M3 thousands of instructions a disc: they
+        // are laid for one disc a pixel, where one is taken).
+        let mut near = [(0i64, 0i64, 0i64); MAX_BRIGHT];
+        let mut count = 0;
         for d in self.discs.iter().take(self.count as usize) {
-            // Far off the lens (beyond 2²⁵ lens radii): clamped.
-            let at =
-                |c: [i64; 2], t: i64| (c[0].saturating_add(c[1].saturating_mul(t)) >> FRAC).clamp(-1 << 40, 1 << 40);
-            let Some(lamp) = lens_steps(at(d.u, i), at(d.v, j), d.r as i64, aperture) else {
-                continue;
-            };
-            let share = lamp.shares.0[1];
-            if share >= FORCE_MIN_SHARE
-                && share as u64 * block as u64 <= MAX_EXPECTED
-                && best.is_none_or(|b| share < b.shares.0[1])
-            {
-                best = Some(lamp);
+            let (x, y, r) = (at(d.u, i), at(d.v, j), d.r as i64);
+            let reach = 32768 + r;
+            if x.abs() < reach && y.abs() < reach && x * x + y * y < reach * reach {
+                let mut k = count;
+                while k > 0 && near[k - 1].2 > r {
+                    near[k] = near[k - 1];
+                    k -= 1;
+                }
+                near[k] = (x, y, r);
+                count += 1;
             }
         }
-        best
+        near.iter().take(count).find_map(|&(x, y, r)| {
+            let lamp = lens_steps(x, y, r, aperture)?;
+            let share = lamp.shares.0[1] as u64;
+            (share >= FORCE_MIN_SHARE as u64 && share * block as u64 <= MAX_EXPECTED).then_some(lamp)
+        })
     }
 }
 
@@ -346,7 +357,28 @@ fn lens_steps(x: i64, y: i64, r: i64, aperture: &Aperture) -> Option<PixelLamp> 
     let v_centre = if d2 > 0 { aperture.v_toward(x, y) } else { 0 };
     let blades = aperture.blades();
     let m = aperture.inradius_q15().max(1) as i64;
-    let length = |e: (i64, i64)| isqrt((e.0 * e.0 + e.1 * e.1) as u64) as i64;
+    // The disk's rim is 1 to the sin table's 1.5 steps (the margins below
+    // take it); a polygon's, by a 32-bit root. A divisor 1 is a shift: the
+    // disk's steps take no division (the Cortex-M3 divides an i64 in software).
+    let length = |e: (i64, i64)| match blades {
+        0 => ONE,
+        _ => crate::camera::aperture::isqrt_u32((e.0 * e.0 + e.1 * e.1) as u32) as i64,
+    };
+    // Else in 32 bits (|t| < 2³³ over a rim of at least 2¹⁴, both by 4: a
+    // unit of t at most, for the margins; the M0 and M3 divide an i64 in
+    // software, at many times the cost).
+    let over = |t: i64, d: i64| {
+        if d == ONE {
+            t >> 15
+        } else {
+            ((t >> 2) as i32 / ((d >> 2) as i32).max(1)) as i64
+        }
+    };
+    // A polygon's corners' and chords' middles' v, once.
+    let mut corners = [(0u32, 0u32); crate::camera::aperture::MAX_BLADES as usize];
+    for (k, c) in corners.iter_mut().enumerate().take(blades as usize) {
+        *c = (((k as u32) << 16) / blades, ((2 * k as u32 + 1) << 15) / blades);
+    }
     // Whether v = w lies in [a, a + step) round the square.
     let within = |w: u32, a: u32| (w.wrapping_sub(a) & 0xFFFF) < step;
     // A step's edge at `v`: its rim's length and the disc's span t± along it, if it meets the disc.
@@ -358,8 +390,11 @@ fn lens_steps(x: i64, y: i64, r: i64, aperture: &Aperture) -> Option<PixelLamp> 
         let (along, across) = (x * ex + y * ey, (x * ey - y * ex).unsigned_abs());
         let (reach, across) = (((r * el) as u64).pow(2), across * across);
         let span = (reach >= across).then(|| {
-            let s = isqrt(reach - across) as i64;
-            ((along - s) / el, (along + s) / el)
+            // √ to 2¹⁵ (a unit of t or two; the margins take it): a 32-bit
+            // root, a sixth of a 64-bit one's instructions on the Cortex-M3.
+            let s =
+                (crate::camera::aperture::isqrt_u32(((reach - across) >> 30).min(u32::MAX as u64) as u32) as i64) << 15;
+            (over(along - s, el), over(along + s, el))
         });
         (el, span)
     };
@@ -371,15 +406,20 @@ fn lens_steps(x: i64, y: i64, r: i64, aperture: &Aperture) -> Option<PixelLamp> 
         let va = (v0 + j as u32 * step) & 0xFFFF;
         let b = edge(va + step);
         let (mut rim_lo, mut rim_hi) = (a.0.min(b.0), a.0.max(b.0));
-        if blades > 0 {
-            let n = blades;
-            // A corner within the step reaches the circle; a chord's middle, the inradius.
-            if (0..n).any(|k| within((k << 16) / n, va)) {
-                rim_hi = ONE;
-            }
-            if (0..n).any(|k| within(((2 * k + 1) << 15) / n, va)) {
-                rim_lo = rim_lo.min(m);
-            }
+        // A corner within the step reaches the circle; a chord's middle, the inradius.
+        if corners
+            .iter()
+            .take(blades as usize)
+            .any(|&(corner, _)| within(corner, va))
+        {
+            rim_hi = ONE;
+        }
+        if corners
+            .iter()
+            .take(blades as usize)
+            .any(|&(_, middle)| within(middle, va))
+        {
+            rim_lo = rim_lo.min(m);
         }
         let (mut t_lo, mut t_hi) = (i64::MAX, i64::MIN);
         if holds_centre {
@@ -396,13 +436,14 @@ fn lens_steps(x: i64, y: i64, r: i64, aperture: &Aperture) -> Option<PixelLamp> 
             continue;
         }
         let u_of = |t: i64, rim: i64| {
-            let q = (t.max(0) << 15) / rim.max(1);
+            let q = over(t.max(0) << 15, rim);
             ((q * q) >> 14).min(1 << 16)
         };
-        // Margins for the roundings (a unit of t is 4 of u at the rim); within
+        // Margins for the roundings (a unit of t is 4 of u at the rim, and
+        // the root above is within two); within
         // 16 bits (any range is a part).
-        let lo = (u_of(t_lo, rim_hi) - 12).clamp(0, 0xFFFF);
-        let last = (u_of(t_hi, rim_lo) + 12).clamp(lo, 0xFFFF);
+        let lo = (u_of(t_lo, rim_hi) - 16).clamp(0, 0xFFFF);
+        let last = (u_of(t_hi, rim_lo) + 16).clamp(lo, 0xFFFF);
         *out = (lo as u16, last as u16);
         inside += (last - lo + 1) as u64 * step as u64;
     }
