@@ -171,6 +171,19 @@ fn lamps_parts_of_the_lens_find_the_bokeh_a_pilot_misses() {
     }
 }
 
+/// Progressive display with lamps' parts: the last pass is the plain render,
+/// pixel for pixel (the parts, like the rest, depend on the pixel alone).
+#[test]
+fn progressive_passes_end_on_the_plain_render_with_lamps_parts() {
+    let text = lensray_host::convergence::with_point(&scene_text("camera-features.scene"), 33);
+    let scene = Scene::<I16F16>::parse(&text).unwrap();
+    let (w, h) = (64, 48);
+    assert!(Renderer::new(&scene, w, h).lamp_parts());
+    let plain = lensray_host::render_image(&scene, w, h, None, &|| {});
+    let last = lensray_host::passes::render_passes(&scene, w, h, None, 8, 1, &mut |_, _, _| {});
+    assert_eq!(last, plain);
+}
+
 /// Where most of the survey's lamps' rays show what the pilots showed (a
 /// generated gilded sphere, a "lamp" only by its bound under four lights:
 /// seed 11734 lost 0.57 dB to them), the parts are off and the frame is what
