@@ -55,8 +55,6 @@ pub const SHARE_BINS: usize = 64;
 const BIN_SHIFT: u32 = 25;
 const SIGMA_SPAN: i64 = 1 << 30;
 
-pub use crate::render::parts::{FORCE_MIN_BLOCK, FORCE_MIN_SHARE};
-
 /// Draws of the pixel's register that look for a point in a part of the
 /// lens (a share f of the aperture: all miss with probability (1 − f)^128,
 /// under 3 % from f = 1/36).

@@ -131,7 +131,11 @@ impl PixelLamp {
     #[inline]
     pub fn part(&self, (u, v): (u16, u16)) -> usize {
         let dv = v.wrapping_sub(self.v0 as u16) as u32;
-        match self.u.get((dv / self.step.max(1)) as usize) {
+        // Past the steps' turn (most rays): no division on the per-ray path.
+        if dv >= self.step * STEPS as u32 {
+            return 0;
+        }
+        match self.u.get((dv / self.step) as usize) {
             Some(&(lo, last)) => (lo <= u && u <= last) as usize,
             None => 0,
         }

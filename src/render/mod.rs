@@ -1596,7 +1596,6 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             counts[part] += 1;
             if extra {
                 lamp_cast = 1;
-                forced = true;
                 let level = |k: usize| S::acc_mean(sums[0][k], counts[0]).to_level();
                 let x = [c.x.to_level(), c.y.to_level(), c.z.to_level()];
                 lamp_spread = lamp
