@@ -75,7 +75,9 @@ pub struct Renderer<'a, S: Scalar> {
     /// [`Renderer::gap_checkers`]; baked since format 15); 19: the doubling
     /// was measured; 20, from [`ADAPTIVE_MIN_POINT`]: pixels in lamps'
     /// footprints take [`adaptive_raised_pilot`] (see [`Renderer::raised_pilots`]);
-    /// 21: adaptive pixels take lamps' parts of the lens (see [`lamps`]).
+    /// 21: adaptive pixels take lamps' parts of the lens (see [`lamps`]);
+    /// 22: pixels in lamps' footprints take the plain pilot (see
+    /// [`Renderer::plain_lamps`]).
     pub(crate) rules: u32,
     /// A plane that cuts the lens: a pixel's rays are weighed by their
     /// part's share of the lens (see [`cut`]).
@@ -337,6 +339,11 @@ const ADAPTIVE_MAX_GAIN: u64 = 8;
 /// lens (see [`lamps`]), where the survey found room for their rays.
 const LAMP_PARTS_RULE: u32 = 1 << 21;
 
+/// Bit 22 of [`Renderer::rules`]: pixels in lamps' footprints take the
+/// plain pilot, as others do, where the survey's rays in its lamps' parts of
+/// the lens mostly showed what the pilots showed (see [`Renderer::surveyed`]).
+const PLAIN_LAMPS_RULE: u32 = 1 << 22;
+
 /// `a · b` exactly, as its high and low 64-bit words (compared as a tuple).
 fn mul_wide(a: u64, b: u64) -> (u64, u64) {
     let (a0, a1, b0, b1) = (a & 0xFFFF_FFFF, a >> 32, b & 0xFFFF_FFFF, b >> 32);
@@ -512,10 +519,21 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// half of it, the grid runs again under C to measure what the
     /// unsettled pixels take, and what that leaves, with margins, sets
     /// [`Renderer::floor`] (capped, none left: the pass's rays lower C).
+    /// Where the grid's rays in its lamps' parts of the lens mostly showed
+    /// what the pilots showed, and the footprints' larger pilots are the
+    /// whole budget there and leave a third of their pixels unsettled or
+    /// more, the grid runs again with those pixels at the plain pilot
+    /// ([`PLAIN_LAMPS_RULE`]; once: the second survey has no larger pilot).
     /// The grid takes a pixel of each cell at a hashed offset
     /// ([`survey_spot`]). Set-up only, in integers.
     fn surveyed(mut self) -> Self {
         self.clear_survey();
+        self.survey_after(0)
+    }
+
+    /// [`Renderer::surveyed`]'s survey, after `prior` rays of an earlier one
+    /// (counted in the budget; see [`PLAIN_LAMPS_RULE`]).
+    fn survey_after(mut self, prior: u64) -> Self {
         let (cols, rows) = (self.camera.cols(), self.camera.rows());
         let stride = survey_stride(cols, rows, self.samples);
         if let (true, Some(s)) = (self.gaps(), stride) {
@@ -533,7 +551,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // pilots with it, the grid's share in footprints two binomial
         // deviations high, stay within RAISED_PILOTS_SHARE and SURVEY_MAX_RAYS.
         let (raised, risk) = (adaptive_raised_pilot(self.samples), adaptive_risk_pilot(self.samples));
-        if !cfg!(feature = "no-spare-floor") && raised > risk {
+        if !cfg!(feature = "no-spare-floor") && raised > risk && self.rules & PLAIN_LAMPS_RULE == 0 {
             let (risky, count) = grid(s).fold((0u64, 0u64), |(r, c), (x, y)| {
                 (r + self.bright.at_risk(x, y) as u64, c + 1)
             });
@@ -569,10 +587,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         #[cfg(test)]
         SURVEYS.with(|n| n.set(n.get() + 1));
         // Lamps' parts of the lens, measured with the rest (see [`lamps`]).
-        if !self.lamps.is_empty() {
+        if !self.lamps.is_empty() && self.rules & PLAIN_LAMPS_RULE == 0 {
             self.rules |= LAMP_PARTS_RULE;
         }
-        let (mut settled_pilots, mut unsettled, mut rays, mut spreads) = (0u64, 0u64, 0u64, 0u64);
+        let (mut settled_pilots, mut unsettled, mut rays, mut spreads) = (0u64, 0u64, prior, 0u64);
+        // Grid pixels in lamps' footprints.
+        let mut risky = 0u64;
         let (mut plain_settled, mut risky_unsettled) = (0u64, 0u64);
         // Grid pixels that cast a lamp's ray beyond their pilot, and that kept it.
         let (mut lamps_cast, mut lamps_kept) = (0u64, 0u64);
@@ -580,6 +600,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut by_spread = [[0u16; 64]; 2];
         for (x, y) in grid(s) {
             let pilot = pilot(x, y);
+            risky += bright.at_risk(x, y) as u64;
             // Without a spread yet, the pixel stops at its pilot either way.
             let (_, n, spread, _, lamp) = self.pixel_rays_within(x, y, pilot);
             rays += n as u64;
@@ -602,6 +623,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 }
             }
         }
+        // All the grid's rays, and whether its lamps' rays, cast on an
+        // eighth of their footprints or more, mostly showed nothing.
+        let (cast, mut unkept) = (rays, false);
         if 2 * lamps_kept < lamps_cast {
             // Most of the grid's lamps' rays showed what the pilots showed:
             // the frame is better off without them (seed 11734, `point` 27,
@@ -609,6 +633,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             // pixels cast one, none kept, -0.57 dB; 11754, 158 of 681 kept,
             // -0.47 dB; `camera-features` at 33, 56 of 61).
             self.rules &= !LAMP_PARTS_RULE;
+            unkept = 8 * lamps_cast >= risky;
             (rays, settled_pilots) = (rays - lamps_cast, settled_pilots - lamps_cast);
         }
         let seen = unsettled;
@@ -643,6 +668,24 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             None => 0,
         };
         self.cap = cap_after(rays);
+        // Lamps whose rays showed nothing, whose footprints' pilots are the
+        // whole budget there and leave a third of their pixels unsettled or
+        // more: the grid again with those pixels at the plain pilot, after
+        // the rays cast so far (seed 11777, `point` 17 to 19 and 34 to 40: a
+        // sphere bright only by its bound, -1.06 to -2.20 dB against the
+        // floor). Where those pilots were within the budget, or settled
+        // their pixels, they paid (without them seed 11734 at `point` 41
+        // lost 3.25 dB; 11835 at 36 to 40, 1 % unsettled, 3.0).
+        if !cfg!(feature = "no-spare-floor")
+            && unkept
+            && risk_pilot > plain_pilot
+            && 5 * risk_pilot >= 2 * self.samples
+            && 3 * risky_unsettled >= risky
+        {
+            self.clear_survey();
+            self.rules = PLAIN_LAMPS_RULE;
+            return self.survey_after(cast);
+        }
         if self.cap < plain_pilot {
             // No room for a lamp's ray beyond the pilot (seed 11679, `point`
             // 10, its pilots the whole budget: 40.3 % of `point` with them).
@@ -681,7 +724,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // the pass costs a pixel 1/s² of its rays.
         let doubles = self.cap >= 2 * plain_pilot && self.cap < self.samples;
         let measured = !cfg!(feature = "no-spare-floor") && !doubling && doubles && seen > 0 && s >= 8;
-        let raised = self.rules & (1 << 20 | LAMP_PARTS_RULE);
+        let raised = self.rules & (1 << 20 | LAMP_PARTS_RULE | PLAIN_LAMPS_RULE);
         if measured {
             self.rules = raised | 1 << 16;
             let (mut sum, mut squares) = (0u64, 0u64);
@@ -1142,8 +1185,17 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         !cfg!(feature = "no-spare-floor") && self.rules >> 20 & 1 != 0
     }
 
+    /// Whether pixels in lamps' footprints take the plain pilot (see
+    /// [`PLAIN_LAMPS_RULE`]). Not on the micro:bit (feature `no-spare-floor`).
+    pub fn plain_lamps(&self) -> bool {
+        !cfg!(feature = "no-spare-floor") && self.rules & PLAIN_LAMPS_RULE != 0
+    }
+
     /// The pilot of a pixel in a lamp's footprint (see [`BrightFootprints`]).
     fn risk_pilot(&self) -> u32 {
+        if self.plain_lamps() {
+            return adaptive_pilot(self.samples);
+        }
         if self.raised_pilots() {
             adaptive_raised_pilot(self.samples)
         } else {
