@@ -181,12 +181,8 @@ fn lamps_parts_of_the_lens_find_the_bokeh_a_pilot_misses() {
 #[test]
 fn false_lamps_footprints_take_the_plain_pilot() {
     let (w, h) = (160, 120);
-    // As it renders by default: its `sampler independent` line dropped.
-    let generated: String = lensray_testkit::scenegen::generate_lens(11777)
-        .lines()
-        .filter(|l| !l.starts_with("sampler"))
-        .map(|l| format!("{l}\n"))
-        .collect();
+    // As it renders by default: stratified (its own line says independent).
+    let generated = lensray_testkit::scenegen::generate_lens(11777) + "\nsampler stratified\n";
     for point in [17, 18, 19] {
         let text = lensray_host::convergence::with_point(&generated, point);
         let scene = Scene::<I16F16>::parse(&text).unwrap();

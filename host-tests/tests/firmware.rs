@@ -630,3 +630,31 @@ fn lamps_parts_of_the_lens_run_bit_for_bit_on_the_cortex_m3() {
         });
     }
 }
+
+/// Seed 11777 at `point` 19: its "lamp" bright only by its bound, the survey
+/// runs again with its footprints at the plain pilot (rules bit 22), on the
+/// board as on the host: bit for bit on the Cortex-M3 in Q16.16 and f32.
+#[test]
+#[ignore = "needs qemu-system-arm and thumbv7m-none-eabi; run by scripts/firmware-tests.sh"]
+fn false_lamps_plain_pilots_run_bit_for_bit_on_the_cortex_m3() {
+    let (w, h) = (40, 30);
+    // As it renders by default: stratified (its own line says independent).
+    let generated = lensray_testkit::scenegen::generate_lens(11777) + "\nsampler stratified\n";
+    let text = lensray_host::convergence::with_point(&generated, 19);
+    let parsed = lensray::Scene::<I16F16>::parse(&text).unwrap();
+    assert!(lensray::Renderer::new(&parsed, w, h).plain_lamps());
+    let path = tmp("seed-11777-19-mps2-an385.scene");
+    std::fs::write(&path, text).unwrap();
+    let scene: &'static str = path.to_str().unwrap().to_string().leak();
+    for float in [false, true] {
+        emulate_and_compare(&Run {
+            board: "mps2-an385",
+            scene,
+            width: w,
+            height: h,
+            samples: None,
+            float,
+            soft_sqrt: false,
+        });
+    }
+}
