@@ -615,20 +615,7 @@ fn lamps_parts_of_the_lens_run_bit_for_bit_on_the_cortex_m3() {
         .filter(|&(x, y)| r.pixel_rays(x, y).1 & 1 == 1)
         .count();
     assert!(odd >= 20, "{odd} pixels cast a lamp's ray");
-    let path = tmp("camera-features-33-mps2-an385.scene");
-    std::fs::write(&path, text).unwrap();
-    let scene: &'static str = path.to_str().unwrap().to_string().leak();
-    for float in [false, true] {
-        emulate_and_compare(&Run {
-            board: "mps2-an385",
-            scene,
-            width: w,
-            height: h,
-            samples: None,
-            float,
-            soft_sqrt: false,
-        });
-    }
+    m3_bit_for_bit_in_both_types("camera-features-33", &text, w, h);
 }
 
 /// Seed 11777 at `point` 19: its "lamp" bright only by its bound, the survey
@@ -643,7 +630,13 @@ fn false_lamps_plain_pilots_run_bit_for_bit_on_the_cortex_m3() {
     let text = lensray_host::convergence::with_point(&generated, 19);
     let parsed = lensray::Scene::<I16F16>::parse(&text).unwrap();
     assert!(lensray::Renderer::new(&parsed, w, h).plain_lamps());
-    let path = tmp("seed-11777-19-mps2-an385.scene");
+    m3_bit_for_bit_in_both_types("seed-11777-19", &text, w, h);
+}
+
+/// Scene `text`, saved as `name`, rendered at `w`x`h` on the Cortex-M3 in
+/// Q16.16 and in f32: each image the host's, bit for bit.
+fn m3_bit_for_bit_in_both_types(name: &str, text: &str, w: u32, h: u32) {
+    let path = tmp(&format!("{name}-mps2-an385.scene"));
     std::fs::write(&path, text).unwrap();
     let scene: &'static str = path.to_str().unwrap().to_string().leak();
     for float in [false, true] {
