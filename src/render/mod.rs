@@ -1185,8 +1185,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         !cfg!(feature = "no-spare-floor") && self.rules >> 20 & 1 != 0
     }
 
-    /// Whether pixels in lamps' footprints take the plain pilot (see
-    /// [`PLAIN_LAMPS_RULE`]). Not on the micro:bit (feature `no-spare-floor`).
+    /// Whether pixels in lamps' footprints take the plain pilot: where the
+    /// survey's rays in its lamps' parts of the lens mostly showed what the
+    /// pilots showed, and the footprints' larger pilots were the whole
+    /// budget there and left a third of their pixels unsettled or more (the
+    /// survey then ran again with every pixel at the plain pilot). Not on
+    /// the micro:bit (feature `no-spare-floor`).
     pub fn plain_lamps(&self) -> bool {
         !cfg!(feature = "no-spare-floor") && self.rules & PLAIN_LAMPS_RULE != 0
     }
