@@ -591,16 +591,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             self.rules |= LAMP_PARTS_RULE;
         }
         let (mut settled_pilots, mut unsettled, mut rays, mut spreads) = (0u64, 0u64, prior, 0u64);
-        // Grid pixels in lamps' footprints.
-        let mut risky = 0u64;
-        let (mut plain_settled, mut risky_unsettled) = (0u64, 0u64);
+        // Grid pixels at the footprints' larger pilot, all and unsettled.
+        let (mut plain_settled, mut risky, mut risky_unsettled) = (0u64, 0u64, 0u64);
         // Grid pixels that cast a lamp's ray beyond their pilot, and that kept it.
         let (mut lamps_cast, mut lamps_kept) = (0u64, 0u64);
         // The unsettled pixels by spread, for the doubling they take (see [`Renderer::share`]).
         let mut by_spread = [[0u16; 64]; 2];
         for (x, y) in grid(s) {
             let pilot = pilot(x, y);
-            risky += bright.at_risk(x, y) as u64;
+            risky += (pilot != plain_pilot) as u64;
             // Without a spread yet, the pixel stops at its pilot either way.
             let (_, n, spread, _, lamp) = self.pixel_rays_within(x, y, pilot);
             rays += n as u64;
@@ -623,9 +622,6 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 }
             }
         }
-        // All the grid's rays, and whether its lamps' rays, cast on an
-        // eighth of their footprints or more, mostly showed nothing.
-        let (cast, mut unkept) = (rays, false);
         if 2 * lamps_kept < lamps_cast {
             // Most of the grid's lamps' rays showed what the pilots showed:
             // the frame is better off without them (seed 11734, `point` 27,
@@ -633,7 +629,26 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             // pixels cast one, none kept, -0.57 dB; 11754, 158 of 681 kept,
             // -0.47 dB; `camera-features` at 33, 56 of 61).
             self.rules &= !LAMP_PARTS_RULE;
-            unkept = 8 * lamps_cast >= risky;
+            // Nor are they what the footprints' larger pilots guard against
+            // where those pilots are the whole budget there, the lamps' rays
+            // were cast on an eighth of the footprints or more, and a third
+            // or more stayed unsettled: the grid again with every pixel at
+            // the plain pilot, after the rays cast so far (seed 11777,
+            // `point` 17 to 19 and 34 to 40: a sphere bright only by its
+            // bound, -1.06 to -2.20 dB against the floor). Where those
+            // pilots were within the budget, or settled their pixels, they
+            // paid (without them seed 11734 at `point` 41 lost 3.25 dB;
+            // 11835 at 36 to 40, 1 % unsettled, 3.0).
+            if !cfg!(feature = "no-spare-floor")
+                && risky > 0
+                && 5 * risk_pilot >= 2 * self.samples
+                && 8 * lamps_cast >= risky
+                && 3 * risky_unsettled >= risky
+            {
+                self.clear_survey();
+                self.rules = PLAIN_LAMPS_RULE;
+                return self.survey_after(rays);
+            }
             (rays, settled_pilots) = (rays - lamps_cast, settled_pilots - lamps_cast);
         }
         let seen = unsettled;
@@ -668,24 +683,6 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             None => 0,
         };
         self.cap = cap_after(rays);
-        // Lamps whose rays showed nothing, whose footprints' pilots are the
-        // whole budget there and leave a third of their pixels unsettled or
-        // more: the grid again with those pixels at the plain pilot, after
-        // the rays cast so far (seed 11777, `point` 17 to 19 and 34 to 40: a
-        // sphere bright only by its bound, -1.06 to -2.20 dB against the
-        // floor). Where those pilots were within the budget, or settled
-        // their pixels, they paid (without them seed 11734 at `point` 41
-        // lost 3.25 dB; 11835 at 36 to 40, 1 % unsettled, 3.0).
-        if !cfg!(feature = "no-spare-floor")
-            && unkept
-            && risk_pilot > plain_pilot
-            && 5 * risk_pilot >= 2 * self.samples
-            && 3 * risky_unsettled >= risky
-        {
-            self.clear_survey();
-            self.rules = PLAIN_LAMPS_RULE;
-            return self.survey_after(cast);
-        }
         if self.cap < plain_pilot {
             // No room for a lamp's ray beyond the pilot (seed 11679, `point`
             // 10, its pilots the whole budget: 40.3 % of `point` with them).
