@@ -235,6 +235,28 @@ fn lamps_parts_are_off_where_the_survey_finds_nothing_behind_them() {
     }
 }
 
+/// Each lamp's part is judged on its own: in a frame of four lamps through a
+/// wide octagon (host-tests/extra-scenes/mutant-lamp-among-dim-lamps.scene),
+/// the survey's grid kept few of two lamps' rays, and with every lamp's
+/// part off the bright bokeh of the others settled dark (-1.23 dB against
+/// the floor at 160x120). Those two are off, the others keep their parts,
+/// and both floors hold; a frame whose lamps are all kept has none off.
+#[test]
+fn each_lamps_part_is_off_or_on_by_its_own_rays() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("extra-scenes/mutant-lamp-among-dim-lamps.scene");
+    let text = std::fs::read_to_string(path).unwrap();
+    let scene = Scene::<I16F16>::parse(&text).unwrap();
+    let r = Renderer::new(&scene, 160, 120);
+    assert!(r.lamp_parts());
+    assert_ne!(r.lamp_parts_off(), 0);
+    floors_hold_on("mutant-lamp-among-dim-lamps.scene", &text, 160, 120);
+    let text = lensray_host::convergence::with_point(&scene_text("camera-features.scene"), 33);
+    let scene = Scene::<I16F16>::parse(&text).unwrap();
+    let r = Renderer::new(&scene, 160, 120);
+    assert!(r.lamp_parts());
+    assert_eq!(r.lamp_parts_off(), 0);
+}
+
 /// Seeds of generated lens scenes: `LENSRAY_SEEDS` (comma-separated), else
 /// `count` seeds drawn from the clock, so that every run sees new scenes.
 fn run_time_seeds(count: u64) -> Vec<u64> {

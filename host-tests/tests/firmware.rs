@@ -633,6 +633,22 @@ fn false_lamps_plain_pilots_run_bit_for_bit_on_the_cortex_m3() {
     m3_bit_for_bit_in_both_types("seed-11777-19", &text, w, h);
 }
 
+/// Lamps' parts off one lamp at a time (rules bits 23 to 30): the mutant
+/// with four lamps through a wide octagon, two of them off and two on, on
+/// the board as on the host: bit for bit on the Cortex-M3 in Q16.16 and f32.
+#[test]
+#[ignore = "needs qemu-system-arm and thumbv7m-none-eabi; run by scripts/firmware-tests.sh"]
+fn lamps_parts_off_one_at_a_time_run_bit_for_bit_on_the_cortex_m3() {
+    let (w, h) = (40, 30);
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("extra-scenes/mutant-lamp-among-dim-lamps.scene");
+    let text = std::fs::read_to_string(path).unwrap();
+    let parsed = lensray::Scene::<I16F16>::parse(&text).unwrap();
+    let r = lensray::Renderer::new(&parsed, w, h);
+    assert!(r.lamp_parts());
+    assert_ne!(r.lamp_parts_off(), 0);
+    m3_bit_for_bit_in_both_types("mutant-lamp-among-dim-lamps", &text, w, h);
+}
+
 /// Scene `text`, saved as `name`, rendered at `w`x`h` on the Cortex-M3 in
 /// Q16.16 and in f32: each image the host's, bit for bit.
 fn m3_bit_for_bit_in_both_types(name: &str, text: &str, w: u32, h: u32) {

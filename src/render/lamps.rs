@@ -46,6 +46,9 @@ fn isqrt(x: u64) -> u64 {
     crate::number::wide::isqrt_rem_u64(x).0
 }
 
+/// The most lamps' discs a frame has: one a bright object.
+pub const MAX_LAMPS: usize = MAX_BRIGHT;
+
 /// Fixed-point fraction bits of a lens disc's centre coefficients.
 const FRAC: u32 = 16;
 
@@ -124,6 +127,8 @@ pub struct PixelLamp {
     u: [(u16, u16); STEPS],
     /// Outside the steps, inside them, and no third part.
     pub(crate) shares: Shares,
+    /// Which of the frame's lamps' discs (in [`LampParts`]' order) it is.
+    pub(crate) lamp: u8,
 }
 
 impl PixelLamp {
@@ -287,9 +292,9 @@ impl LampParts {
         // The discs that reach the lens's circle, the smallest first (the
         // steps cost the Cortex-M3 thousands of instructions a disc: they
         // are laid for one disc a pixel, where one is taken).
-        let mut near = [(0i64, 0i64, 0i64); MAX_BRIGHT];
+        let mut near = [(0i64, 0i64, 0i64, 0u8); MAX_BRIGHT];
         let mut count = 0;
-        for d in self.discs.iter().take(self.count as usize) {
+        for (index, d) in self.discs.iter().take(self.count as usize).enumerate() {
             let (x, y, r) = (at(d.u, i), at(d.v, j), d.r as i64);
             let reach = 32768 + r;
             if x.abs() < reach && y.abs() < reach && x * x + y * y < reach * reach {
@@ -298,14 +303,15 @@ impl LampParts {
                     near[k] = near[k - 1];
                     k -= 1;
                 }
-                near[k] = (x, y, r);
+                near[k] = (x, y, r, index as u8);
                 count += 1;
             }
         }
-        near.iter().take(count).find_map(|&(x, y, r)| {
+        near.iter().take(count).find_map(|&(x, y, r, index)| {
             let lamp = lens_steps(x, y, r, aperture)?;
             let share = lamp.shares.0[1] as u64;
-            (share >= FORCE_MIN_SHARE as u64 && share * block as u64 <= MAX_EXPECTED).then_some(lamp)
+            (share >= FORCE_MIN_SHARE as u64 && share * block as u64 <= MAX_EXPECTED)
+                .then_some(PixelLamp { lamp: index, ..lamp })
         })
     }
 }
@@ -458,6 +464,7 @@ fn lens_steps(x: i64, y: i64, r: i64, aperture: &Aperture) -> Option<PixelLamp> 
         step,
         u,
         shares: Shares([(1 << 16) - inside, inside, 0]),
+        lamp: 0,
     })
 }
 

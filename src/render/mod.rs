@@ -77,7 +77,8 @@ pub struct Renderer<'a, S: Scalar> {
     /// footprints take [`adaptive_raised_pilot`] (see [`Renderer::raised_pilots`]);
     /// 21: adaptive pixels take lamps' parts of the lens (see [`lamps`]);
     /// 22: pixels in lamps' footprints take the plain pilot (see
-    /// [`Renderer::plain_lamps`]).
+    /// [`Renderer::plain_lamps`]); 23 to 30: lamp 0 to 7's part is off (see
+    /// [`Renderer::lamp_parts_off`]; baked since format 17).
     pub(crate) rules: u32,
     /// A plane that cuts the lens: a pixel's rays are weighed by their
     /// part's share of the lens (see [`cut`]).
@@ -344,6 +345,11 @@ const LAMP_PARTS_RULE: u32 = 1 << 21;
 /// the lens mostly showed what the pilots showed (see [`Renderer::surveyed`]).
 const PLAIN_LAMPS_RULE: u32 = 1 << 22;
 
+/// Bits 23 to 30 of [`Renderer::rules`]: lamp k's part of the lens (its
+/// disc, k in the frame's order) is off at bit 23 + k.
+const LAMP_OFF_SHIFT: u32 = 23;
+const LAMP_OFF_RULES: u32 = ((1 << lamps::MAX_LAMPS) - 1) << LAMP_OFF_SHIFT;
+
 /// `a · b` exactly, as its high and low 64-bit words (compared as a tuple).
 fn mul_wide(a: u64, b: u64) -> (u64, u64) {
     let (a0, a1, b0, b1) = (a & 0xFFFF_FFFF, a >> 32, b & 0xFFFF_FFFF, b >> 32);
@@ -524,6 +530,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// whole budget there and leave a third of their pixels unsettled or
     /// more, the grid runs again with those pixels at the plain pilot
     /// ([`PLAIN_LAMPS_RULE`]; once: the second survey has no larger pilot).
+    /// Else a lamp whose grid rays mostly showed what the pilots showed has
+    /// its part off ([`LAMP_OFF_RULES`]), each lamp on its own.
     /// The grid takes a pixel of each cell at a hashed offset
     /// ([`survey_spot`]). Set-up only, in integers.
     fn surveyed(mut self) -> Self {
@@ -593,8 +601,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let (mut settled_pilots, mut unsettled, mut rays, mut spreads) = (0u64, 0u64, prior, 0u64);
         // Grid pixels at the footprints' larger pilot, all and unsettled.
         let (mut plain_settled, mut risky, mut risky_unsettled) = (0u64, 0u64, 0u64);
-        // Grid pixels that cast a lamp's ray beyond their pilot, and that kept it.
-        let (mut lamps_cast, mut lamps_kept) = (0u64, 0u64);
+        // Grid pixels that cast a lamp's ray beyond their pilot, and that kept it, by lamp.
+        let mut by_lamp = [(0u64, 0u64); lamps::MAX_LAMPS];
         // The unsettled pixels by spread, for the doubling they take (see [`Renderer::share`]).
         let mut by_spread = [[0u16; 64]; 2];
         for (x, y) in grid(s) {
@@ -603,7 +611,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             // Without a spread yet, the pixel stops at its pilot either way.
             let (_, n, spread, _, lamp) = self.pixel_rays_within(x, y, pilot);
             rays += n as u64;
-            (lamps_cast, lamps_kept) = (lamps_cast + (lamp > 0) as u64, lamps_kept + (lamp > 1) as u64);
+            if let Some(l) = by_lamp.get_mut((lamp >> 2) as usize).filter(|_| lamp & 3 > 0) {
+                *l = (l.0 + 1, l.1 + (lamp & 3 > 1) as u64);
+            }
             if spread == 0 {
                 settled_pilots += n as u64;
                 plain_settled += (pilot == plain_pilot) as u64;
@@ -622,35 +632,54 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 }
             }
         }
-        if 2 * lamps_kept < lamps_cast {
-            // Most of the grid's lamps' rays showed what the pilots showed:
-            // the frame is better off without them (seed 11734, `point` 27,
-            // a gilded sphere bright only by its bound: 1162 of 1200 grid
-            // pixels cast one, none kept, -0.57 dB; 11754, 158 of 681 kept,
-            // -0.47 dB; `camera-features` at 33, 56 of 61).
-            self.rules &= !LAMP_PARTS_RULE;
-            // Nor are they what the footprints' larger pilots guard against
-            // where those pilots are the whole budget there, the lamps' rays
-            // were cast on an eighth of the footprints or more, and a third
-            // or more stayed unsettled: the grid again with every pixel at
-            // the plain pilot, after the rays cast so far (seed 11777,
-            // `point` 17 to 19 and 34 to 40: a sphere bright only by its
-            // bound, -1.06 to -2.20 dB against the floor). Where those
-            // pilots were within the budget, or settled their pixels, they
-            // paid (without them seed 11734 at `point` 41 lost 3.25 dB;
-            // 11835 at 36 to 40, 1 % unsettled, 3.0).
-            if !cfg!(feature = "no-spare-floor")
-                && risky > 0
-                && 5 * risk_pilot >= 2 * self.samples
-                && 8 * lamps_cast >= risky
-                && 3 * risky_unsettled >= risky
-            {
-                self.clear_survey();
-                self.rules = PLAIN_LAMPS_RULE;
-                return self.survey_after(rays);
+        // A lamp whose grid rays mostly showed what the pilots showed is off:
+        // the frame is better off without its rays (seed 11734, `point` 27,
+        // a gilded sphere bright only by its bound: 1162 of 1200 grid pixels
+        // cast one, none kept, -0.57 dB; 11754, 158 of 681 kept, -0.47 dB;
+        // `camera-features` at 33, 56 of 61). Each lamp on its own: a
+        // frame's dim lamps outnumbered its bright one, whose pixels then
+        // missed it (a lamp 30 times white behind three dim ones, `point`
+        // 88, -0.71 dB against the floor with every part off; see
+        // `host-tests/extra-scenes/lamp-among-dim-lamps.scene`).
+        let (mut off, mut on) = (0u32, false);
+        let (mut lamps_cast, mut lamps_kept, mut dropped) = (0u64, 0u64, 0u64);
+        for (k, &(cast, kept)) in by_lamp.iter().enumerate() {
+            (lamps_cast, lamps_kept) = (lamps_cast + cast, lamps_kept + kept);
+            if 2 * kept < cast {
+                off |= 1 << k;
+                dropped += cast;
+            } else {
+                on |= cast > 0;
             }
-            (rays, settled_pilots) = (rays - lamps_cast, settled_pilots - lamps_cast);
         }
+        // Nor are the frame's lamps' rays, mostly not kept, what the
+        // footprints' larger pilots guard against where those pilots are
+        // the whole budget there, the lamps' rays were cast on an eighth of
+        // the footprints or more, and a third or more stayed unsettled: the
+        // grid again with every pixel at the plain pilot, after the rays
+        // cast so far (seed 11777, `point` 17 to 19 and 34 to 40: a sphere
+        // bright only by its bound, -1.06 to -2.20 dB against the floor).
+        // Where those pilots were within the budget, or settled their
+        // pixels, they paid (without them seed 11734 at `point` 41 lost
+        // 3.25 dB; 11835 at 36 to 40, 1 % unsettled, 3.0).
+        if !cfg!(feature = "no-spare-floor")
+            && 2 * lamps_kept < lamps_cast
+            && risky > 0
+            && 5 * risk_pilot >= 2 * self.samples
+            && 8 * lamps_cast >= risky
+            && 3 * risky_unsettled >= risky
+        {
+            self.clear_survey();
+            self.rules = PLAIN_LAMPS_RULE;
+            return self.survey_after(rays);
+        }
+        if on {
+            self.rules |= off << LAMP_OFF_SHIFT;
+        } else if off != 0 {
+            self.rules &= !LAMP_PARTS_RULE;
+        }
+        // The rays of the lamps now off are not the frame's.
+        (rays, settled_pilots) = (rays - dropped, settled_pilots - dropped);
         let seen = unsettled;
         // A margin of one binomial standard deviation of the count,
         // √(U (G − U) / G) rounded up, so that a frame with more unsettled
@@ -721,7 +750,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // the pass costs a pixel 1/s² of its rays.
         let doubles = self.cap >= 2 * plain_pilot && self.cap < self.samples;
         let measured = !cfg!(feature = "no-spare-floor") && !doubling && doubles && seen > 0 && s >= 8;
-        let raised = self.rules & (1 << 20 | LAMP_PARTS_RULE | PLAIN_LAMPS_RULE);
+        let raised = self.rules & (1 << 20 | LAMP_PARTS_RULE | PLAIN_LAMPS_RULE | LAMP_OFF_RULES);
         if measured {
             self.rules = raised | 1 << 16;
             let (mut sum, mut squares) = (0u64, 0u64);
@@ -1306,6 +1335,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         self.rules & LAMP_PARTS_RULE != 0 && !self.lamps.is_empty()
     }
 
+    /// The lamps whose parts of the lens are off where the others' are on,
+    /// as bits in the frame's order of its bright objects (see [`lamps`]):
+    /// the survey's grid mostly kept none of their rays.
+    pub fn lamp_parts_off(&self) -> u32 {
+        (self.rules & LAMP_OFF_RULES) >> LAMP_OFF_SHIFT
+    }
+
     /// This renderer without lamps' parts of the lens (see [`lamps`]), its
     /// survey as it was: what they change (tests, diagnosis).
     #[doc(hidden)]
@@ -1496,7 +1532,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// [`Renderer::pixel_rays`] with a cap of `most` samples for an adaptive
     /// pixel that is not settled (at least its pilot), and the pixel's spread
     /// at its last check if it was not settled there (at least 1), else 0,
-    /// and its class for the scanline filter (see [`scanline::Scanline`]).
+    /// and its class for the scanline filter (see [`scanline::Scanline`]),
+    /// and its lamp's ray beyond the pilot: bits 0-1 none 0, cast 1, kept 2;
+    /// bits 2-4 the lamp's index, where cast.
     fn pixel_rays_within(&self, col: u32, row: u32, most: u32) -> (Vec3<S>, u32, u32, u8, u8) {
         let film = self.camera.film_point(col, row);
         if self.camera.is_pinhole() {
@@ -1540,9 +1578,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // Else, for an adaptive pixel where the survey found room, a lamp's
         // disc on the lens that its pilot may miss (stratified sampler only).
         let mut lamp = match pixel_cut {
-            None if !self.lamps.is_empty() && adaptive && self.rules & LAMP_PARTS_RULE != 0 => {
-                self.lamps.pixel(col, row, self.camera.aperture(), first_block)
-            }
+            None if !self.lamps.is_empty() && adaptive && self.rules & LAMP_PARTS_RULE != 0 => self
+                .lamps
+                .pixel(col, row, self.camera.aperture(), first_block)
+                .filter(|l| self.rules >> LAMP_OFF_SHIFT >> l.lamp & 1 == 0),
             _ => None,
         };
         let mut parts = pixel_cut.map(|q| q.shares).or(lamp.as_ref().map(|l| l.shares));
@@ -1577,7 +1616,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut textured = false;
         // A ray drawn in a lamp's part beyond the sequence's (see [`lamps`]):
         // due, cast, and the spread it sets where it moves the mean by a level.
-        let (mut lamp_due, mut lamp_cast, mut lamp_spread) = (false, 0u32, None);
+        let (mut lamp_due, mut lamp_cast, mut lamp_spread, mut lamp_index) = (false, 0u32, None, 0u8);
         // (Compiled out on the micro:bit: its flash.)
         let lamps_on = !cfg!(feature = "no-lamp-parts");
         while n < limit || (lamps_on && lamp_due) {
@@ -1649,6 +1688,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             counts[part] += 1;
             if extra {
                 lamp_cast = 1;
+                lamp_index = lamp.as_ref().map_or(0, |l| l.lamp);
                 let level = |k: usize| S::acc_mean(sums[0][k], counts[0]).to_level();
                 let x = [c.x.to_level(), c.y.to_level(), c.z.to_level()];
                 lamp_spread = lamp
@@ -1747,7 +1787,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         } else {
             0
         } | if textured { scanline::TEXTURED } else { 0 };
-        let lamp = lamp_cast as u8 + lamp_spread.is_some() as u8;
+        let lamp = (lamp_cast as u8 + lamp_spread.is_some() as u8) | (lamp_index << 2);
         (colour, n + lamp_cast, if track { wide_at } else { spread }, class, lamp)
     }
 
