@@ -633,20 +633,28 @@ fn false_lamps_plain_pilots_run_bit_for_bit_on_the_cortex_m3() {
     m3_bit_for_bit_in_both_types("seed-11777-19", &text, w, h);
 }
 
-/// Lamps' parts off one lamp at a time (rules bits 23 to 30): the mutant
-/// with four lamps through a wide octagon, two of them off and two on, on
-/// the board as on the host: bit for bit on the Cortex-M3 in Q16.16 and f32.
+/// Lamps' parts off one lamp at a time (rules bits 23 to 30; seed 11754,
+/// one of its lamps off, the others on), and lamps' parts in the pilot's
+/// last ray where the pilot is the whole budget (rule bit 31; the mutant at
+/// `point` 20 of host-tests/extra-scenes/), on the board as on the host:
+/// bit for bit on the Cortex-M3 in Q16.16 and f32.
 #[test]
 #[ignore = "needs qemu-system-arm and thumbv7m-none-eabi; run by scripts/firmware-tests.sh"]
-fn lamps_parts_off_one_at_a_time_run_bit_for_bit_on_the_cortex_m3() {
+fn lamps_parts_by_lamp_and_in_the_pilot_run_bit_for_bit_on_the_cortex_m3() {
     let (w, h) = (40, 30);
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("extra-scenes/mutant-lamp-among-dim-lamps.scene");
-    let text = std::fs::read_to_string(path).unwrap();
+    // As it renders by default: stratified (its own line says independent).
+    let text = lensray_testkit::scenegen::generate_lens(11754) + "\nsampler stratified\n";
     let parsed = lensray::Scene::<I16F16>::parse(&text).unwrap();
     let r = lensray::Renderer::new(&parsed, w, h);
     assert!(r.lamp_parts());
     assert_ne!(r.lamp_parts_off(), 0);
-    m3_bit_for_bit_in_both_types("mutant-lamp-among-dim-lamps", &text, w, h);
+    m3_bit_for_bit_in_both_types("seed-11754", &text, w, h);
+    let name = "mutant-near-lamp-at-point-20";
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("extra-scenes/{name}.scene"));
+    let text = std::fs::read_to_string(path).unwrap();
+    let parsed = lensray::Scene::<I16F16>::parse(&text).unwrap();
+    assert!(lensray::Renderer::new(&parsed, w, h).lamps_in_place());
+    m3_bit_for_bit_in_both_types(name, &text, w, h);
 }
 
 /// Scene `text`, saved as `name`, rendered at `w`x`h` on the Cortex-M3 in

@@ -88,13 +88,20 @@ pub struct LampParts {
     /// How many of `discs` are a lamp's.
     #[cfg(not(feature = "no-lamp-parts"))]
     count: u32,
+    /// The discs (bits) of lamps that glow: bright by their ambient term
+    /// alone, in every direction and under no light.
+    #[cfg(not(feature = "no-lamp-parts"))]
+    glowing: u32,
 }
 
 #[cfg(not(feature = "no-lamp-parts"))]
 impl crate::bytes::Field for LampParts {
-    crate::bytes::baked_fields!(LampParts { discs, count }, check(l) {
+    crate::bytes::baked_fields!(LampParts { discs, count, glowing }, check(l) {
         if l.count as usize > MAX_BRIGHT {
             return Err(crate::bytes::BakeError::OutOfRange("more lamps' lens discs than bright objects"));
+        }
+        if l.glowing >> l.count != 0 {
+            return Err(crate::bytes::BakeError::OutOfRange("a glowing lamp beyond the lamps' lens discs"));
         }
     });
 }
@@ -105,10 +112,10 @@ impl crate::bytes::Field for LampParts {
 crate::bytes::read_past_field!(LampParts, BAKED_WORDS);
 
 /// The words baked lamps' discs take (see the `Field` impls): 9 a disc
-/// (two i64 pairs and an i32), and the count.
-const BAKED_WORDS: usize = 9 * MAX_BRIGHT + 1;
+/// (two i64 pairs and an i32), the count and the glowing ones.
+const BAKED_WORDS: usize = 9 * MAX_BRIGHT + 2;
 const _: () =
-    assert!(BAKED_WORDS * 4 == MAX_BRIGHT * (2 * core::mem::size_of::<[i64; 2]>() + core::mem::size_of::<i32>()) + 4);
+    assert!(BAKED_WORDS * 4 == MAX_BRIGHT * (2 * core::mem::size_of::<[i64; 2]>() + core::mem::size_of::<i32>()) + 8);
 
 /// Steps of a lamp's part across the turn: each a range of `v` with its own
 /// range of `u`, hugging the lens disc (one box held a hexagon's disc in
@@ -176,6 +183,7 @@ impl LampParts {
             r: 0,
         }; MAX_BRIGHT],
         count: 0,
+        glowing: 0,
     };
     /// No lamp parts (the only ones without them).
     #[cfg(feature = "no-lamp-parts")]
@@ -192,6 +200,13 @@ impl LampParts {
     #[inline(always)]
     pub fn is_empty(&self) -> bool {
         true
+    }
+
+    /// No lamp glows without them.
+    #[cfg(feature = "no-lamp-parts")]
+    #[inline(always)]
+    pub fn glows(&self, _lamp: u8) -> bool {
+        false
     }
 
     /// No pixel has a lamp part without them.
@@ -262,6 +277,10 @@ impl LampParts {
                 Some(slot) => *slot = disc,
                 None => break,
             }
+            let (ka, ambient) = (obj.material.ka.to_f64(), scene.ambient.to_f64());
+            if (0..3).any(|k| ka[k] * ambient[k] > crate::render::footprint::BRIGHT) {
+                out.glowing |= 1 << out.count;
+            }
             out.count += 1;
         }
         out
@@ -272,6 +291,14 @@ impl LampParts {
     #[inline]
     pub fn is_empty(&self) -> bool {
         self.count == 0
+    }
+
+    /// Whether lamp `lamp` (its disc's index) glows: its ambient term alone
+    /// is bright (see [`crate::render::footprint::BRIGHT`]).
+    #[cfg(not(feature = "no-lamp-parts"))]
+    #[inline]
+    pub fn glows(&self, lamp: u8) -> bool {
+        self.glowing >> lamp & 1 != 0
     }
 
     /// Pixel (`col`, `row`)'s lamp part on `aperture`: of the lamps whose
