@@ -350,12 +350,13 @@ const PLAIN_LAMPS_RULE: u32 = 1 << 22;
 /// Bits 23 to 30 of [`Renderer::rules`]: lamp k's part of the lens (its
 /// disc, k in the frame's order) is off at bit 23 + k.
 const LAMP_OFF_SHIFT: u32 = 23;
+/// Those bits, one a lamp.
+const LAMP_OFF_RULES: u32 = ((1 << lamps::MAX_LAMPS) - 1) << LAMP_OFF_SHIFT;
+
 /// Bit 31 of [`Renderer::rules`]: where the pilots are the whole budget
 /// (no survey), a pixel's pilot draws its last ray in a lamp's part of the
 /// lens if none of the others fell there (see [`Renderer::lamps_in_place`]).
 const LAMP_IN_PLACE_RULE: u32 = 1 << 31;
-
-const LAMP_OFF_RULES: u32 = ((1 << lamps::MAX_LAMPS) - 1) << LAMP_OFF_SHIFT;
 
 /// `a · b` exactly, as its high and low 64-bit words (compared as a tuple).
 fn mul_wide(a: u64, b: u64) -> (u64, u64) {
