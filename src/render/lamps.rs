@@ -209,6 +209,13 @@ impl LampParts {
         false
     }
 
+    /// No lamp glows without them.
+    #[cfg(feature = "no-lamp-parts")]
+    #[inline(always)]
+    pub fn any_glows(&self) -> bool {
+        false
+    }
+
     /// No pixel has a lamp part without them.
     #[cfg(feature = "no-lamp-parts")]
     #[inline(always)]
@@ -299,6 +306,13 @@ impl LampParts {
     #[inline]
     pub fn glows(&self, lamp: u8) -> bool {
         self.glowing >> lamp & 1 != 0
+    }
+
+    /// Whether any of the frame's lamps glows (see [`LampParts::glows`]).
+    #[cfg(not(feature = "no-lamp-parts"))]
+    #[inline]
+    pub fn any_glows(&self) -> bool {
+        self.glowing != 0
     }
 
     /// Pixel (`col`, `row`)'s lamp part on `aperture`: of the lamps whose

@@ -598,8 +598,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         };
         let full = 5 * (pilots + survey) >= 2 * self.samples as u64 * count;
         if full {
-            // No ray to spare for a lamp's part: the pilot's last in it.
-            if !cfg!(feature = "no-spare-floor") && !self.lamps.is_empty() {
+            // No ray to spare for a glowing lamp's part: the pilot's last in it.
+            if !cfg!(feature = "no-spare-floor") && self.lamps.any_glows() {
                 self.rules |= LAMP_IN_PLACE_RULE;
             }
             return self;
@@ -1352,11 +1352,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     }
 
     /// Whether, the pilots being the whole budget (no survey), an adaptive
-    /// pixel whose pilot put no ray in a lamp's part of the lens (see
-    /// [`lamps`]) draws its pilot's last ray there, in place of the
-    /// sequence's, and weighs its parts by their shares.
+    /// pixel whose pilot put no ray in the part of the lens of a lamp that
+    /// glows (its ambient term alone bright; see [`lamps`]) draws its
+    /// pilot's last ray there, in place of the sequence's, and weighs its
+    /// parts by their shares. Set only where some lamp glows.
     pub fn lamps_in_place(&self) -> bool {
-        self.rules & LAMP_IN_PLACE_RULE != 0 && !self.lamps.is_empty()
+        self.rules & LAMP_IN_PLACE_RULE != 0
     }
 
     /// The lamps whose parts of the lens are off where the others' are on,
