@@ -16,6 +16,13 @@ random.Random(s)), drops its camera's sampling lines, scales some lights and
 depths, and sets a `point` of 10 to 90, a lens radius of 0.05 to 1.2, often a
 focus distance, an aperture polygon and shadows, and up to four lamps (small
 spheres 2 to 30 times white by their Ka).
+
+The focus distance is written first, so a base's own `focal_length` or
+`focus_on`, which comes after it, stands (the last focus statement does):
+only mutants of pinhole-shapes and hand-{grazing,lamp-grid,macro-bokeh,
+near-focus}, which have neither, are refocused. Left so, so that mutants
+1-120 stay the scenes measured in BENCHMARKS.md; scripts/still-lifes.py
+sets its focus last.
 """
 import glob
 import os

@@ -141,13 +141,18 @@ pub fn with_point(text: &str, point: u32) -> String {
 
 /// A diagnosis example's first arguments SEED WIDTH (`args` as
 /// `std::env::args` gives them): SEED, the generated lens scene of SEED, and
-/// the frame's width and height (WIDTH × 3/4 WIDTH).
+/// the frame's width and height (WIDTH × 3/4 WIDTH). SEED may be a scene
+/// file's path instead (a mutant, a still life): its text, and seed 0.
 ///
 /// # Panics
 ///
-/// Where SEED or WIDTH is missing or not a number (a diagnosis tool's usage).
+/// Where SEED is neither a number nor a readable file, or WIDTH is missing
+/// or not a number (a diagnosis tool's usage).
 pub fn seed_frame(args: &[String]) -> (u64, String, u32, u32) {
-    let seed: u64 = args[1].parse().expect("SEED");
     let w: u32 = args[2].parse().expect("WIDTH");
+    let Ok(seed) = args[1].parse::<u64>() else {
+        let text = std::fs::read_to_string(&args[1]).expect("SEED or a scene file");
+        return (0, text, w, w * 3 / 4);
+    };
     (seed, lensray_testkit::scenegen::generate_lens(seed), w, w * 3 / 4)
 }

@@ -93,6 +93,28 @@ fn the_hand_written_scenes_meet_both_floors() {
     }
 }
 
+/// Still lifes, a family of scenes written from the scene format alone
+/// (scripts/still-lifes.py; host-tests/extra-scenes/still-life-*): the four
+/// of still lifes 1-40 with the least margin at 320x240 or the widest lens
+/// (a hexagon at f/8 focused at 28.8 with shadows, `point` 24; a wide
+/// nonagon over lamps' footprints, 21; `focus_on` through a hexagon, 16;
+/// f/1.4, 33): both floors on each.
+#[test]
+fn the_still_lifes_meet_both_floors() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("extra-scenes");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with("still-life-") && n.ends_with(".scene"))
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 4, "{names:?}");
+    for name in names {
+        let text = std::fs::read_to_string(dir.join(&name)).unwrap();
+        floors_hold_on(&name, &text, 96, 72);
+    }
+}
+
 #[test]
 fn program1_default_render_beats_independent_with_40_percent_of_the_rays() {
     floors_hold("paper-program1.scene", 96, 72);
