@@ -79,14 +79,20 @@ fn a_camera_on_the_floor_meets_both_floors() {
 /// both floors on each.
 #[test]
 fn the_hand_written_scenes_meet_both_floors() {
+    floors_hold_on_extra_scenes("hand-", 8);
+}
+
+/// Both floors at 96x72 on each of the `count` scenes of
+/// host-tests/extra-scenes/ whose names start with `prefix`.
+fn floors_hold_on_extra_scenes(prefix: &str, count: usize) {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("extra-scenes");
     let mut names: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.starts_with("hand-") && n.ends_with(".scene"))
+        .filter(|n| n.starts_with(prefix) && n.ends_with(".scene"))
         .collect();
     names.sort();
-    assert_eq!(names.len(), 8, "{names:?}");
+    assert_eq!(names.len(), count, "{names:?}");
     for name in names {
         let text = std::fs::read_to_string(dir.join(&name)).unwrap();
         floors_hold_on(&name, &text, 96, 72);
@@ -101,18 +107,7 @@ fn the_hand_written_scenes_meet_both_floors() {
 /// f/1.4, 33): both floors on each.
 #[test]
 fn the_still_lifes_meet_both_floors() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("extra-scenes");
-    let mut names: Vec<String> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.starts_with("still-life-") && n.ends_with(".scene"))
-        .collect();
-    names.sort();
-    assert_eq!(names.len(), 4, "{names:?}");
-    for name in names {
-        let text = std::fs::read_to_string(dir.join(&name)).unwrap();
-        floors_hold_on(&name, &text, 96, 72);
-    }
+    floors_hold_on_extra_scenes("still-life-", 4);
 }
 
 #[test]
