@@ -78,8 +78,9 @@ fn near_focus(x: i64, y: i64, r: i64) -> Option<(i64, i64)> {
     // |x|, |y| < 2²⁵ here: the squares fit.
     let rho = isqrt((x * x + y * y) as u64) as i64;
     // ⌊ρ⌋: h low by a unit at most, the chord nearer the centre (more held).
+    // Past this, ρ > r − 1 > 0 (r is over two lens radii): no zero divisor.
     let h = rho - r;
-    if h <= -ONE || rho == 0 {
+    if h <= -ONE {
         return None;
     }
     // 8 units inside the radius: its roots' roundings.
