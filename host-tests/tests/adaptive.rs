@@ -8,8 +8,8 @@
 
 use lensray::unstable::render::{
     adaptive_limit, adaptive_pilot, adaptive_raised_pilot, adaptive_risk_pilot, dithered_budget, dithered_cap,
-    survey_stride, ADAPTIVE_BUDGET_POINT, ADAPTIVE_EIGHT_POINT, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT, ADAPTIVE_PILOT,
-    ADAPTIVE_SMALL_PILOT, GAP_PAIR, SURVEY_MAX_RAYS, SURVEY_MIN_PIXELS,
+    spread_margin, survey_stride, ADAPTIVE_BUDGET_POINT, ADAPTIVE_EIGHT_POINT, ADAPTIVE_MIN_PILOT, ADAPTIVE_MIN_POINT,
+    ADAPTIVE_PILOT, ADAPTIVE_SMALL_PILOT, GAP_PAIR, SPREAD_MARGIN_SE, SURVEY_MAX_RAYS, SURVEY_MIN_PIXELS,
 };
 use lensray::unstable::sampler::Sampler;
 use lensray::{Renderer, Scene, I16F16};
@@ -756,6 +756,68 @@ fn the_dithered_cap_is_a_power_of_two_and_keeps_the_mean_within_the_cap() {
             assert!(sum + low > 64 * cap, "cap {cap}: mean {} too low", sum as f64 / 64.0);
         }
     }
+}
+
+#[test]
+fn the_spread_margin_is_the_mean_and_its_standard_errors() {
+    // Random sets of spreads, 2 to 2000 of them, narrow and heavy-tailed
+    // (lamps' spreads reach 2^24): the margin is the mean plus
+    // SPREAD_MARGIN_SE standard errors, rounded up, to within 2 and a part
+    // in 10^6 (the integer root's).
+    let mut state = 14u64;
+    let mut next = || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    for case in 0..400 {
+        let n = 2 + next() % 2000;
+        let top = 1u64 << (2 + next() % 23);
+        let spreads: Vec<u64> = (0..n)
+            .map(|_| match case % 3 {
+                0 => 1 + next() % top,
+                1 => top / 2 + next() % 8,
+                _ => 1 + (next() % top) * (next() % top) / top,
+            })
+            .collect();
+        let sum: u64 = spreads.iter().sum();
+        let squares: u128 = spreads.iter().map(|&x| x as u128 * x as u128).sum();
+        let got = spread_margin(n, sum, squares) as f64;
+        let mean = sum as f64 / n as f64;
+        let var = spreads.iter().map(|&x| (x as f64 - mean).powi(2)).sum::<f64>() / n as f64;
+        let want = mean + SPREAD_MARGIN_SE as f64 * (var / n as f64).sqrt();
+        assert!(
+            got >= want * (1.0 - 1e-6)
+                && got <= want * (1.0 + 1e-6) + 2.0 + SPREAD_MARGIN_SE as f64 * mean / sum as f64,
+            "case {case}: {n} spreads up to {top}: {got} for {want}"
+        );
+    }
+    // One spread, or none: its mean, no margin to measure.
+    assert_eq!(spread_margin(1, 700, 490_000), 700);
+    assert_eq!(spread_margin(0, 0, 0), 0);
+}
+
+/// A frame whose cap C is under one ray above its pilot: the shares take
+/// C's fraction, so the unsettled pixels of most spread go on past the
+/// pilot. Seed 11777 at `point` 22 has C = 8.65 over a pilot of 8; with C
+/// rounded down to 8, every pixel stopped at 8 (-2.83 dB against the PSNR
+/// floor at 320x240; +0.83 with the fraction).
+#[test]
+fn a_cap_under_a_ray_above_the_pilot_still_spends_its_fraction() {
+    let (w, h) = (320, 240);
+    let scene = Scene::<I16F16>::parse(&lensray_testkit::scenegen::generate_lens(11777)).unwrap();
+    let r = Renderer::new_with_samples(&scene, w, h, Some(22));
+    assert_eq!(r.adaptive_cap().0, adaptive_pilot(22), "the cap is the pilot");
+    let rows = frame_rays(&r, w, h) - r.adaptive_cap().1 as u64;
+    let pixels = (w * h) as u64;
+    assert!(
+        100 * rows >= 825 * pixels,
+        "{:.3} rays a pixel: the fraction was not spent",
+        rows as f64 / pixels as f64
+    );
+    assert_within_budget(&r, 11777, w, h);
 }
 
 #[test]

@@ -63,7 +63,9 @@ pub struct Renderer<'a, S: Scalar> {
     pub(crate) floor: u32,
     /// Below [`ADAPTIVE_MIN_POINT`] with gaps (see [`Renderer::gaps`]): the
     /// rays a pixel that casts any takes, in 256ths (dithered), from the gap
-    /// survey: the budget the filled gaps leave. 0: 40 % of `point`.
+    /// survey: the budget the filled gaps leave. 0: 40 % of `point`. From
+    /// it, with a survey: `cap` in 256ths before it was rounded down, which
+    /// the unsettled pixels' shares take (see [`Renderer::share`]); 0: `cap`.
     pub(crate) budget256: u32,
     /// What the surveys chose, as bits. 0-7, below [`ADAPTIVE_MIN_POINT`]:
     /// anchors every this many columns (see [`scanline::fills`]; 0: no
@@ -269,6 +271,37 @@ fn dithered_ratio(num: u32, den: u32, col: u32, row: u32) -> u32 {
     } else {
         low
     }
+}
+
+/// The mean of the `seen` spreads (of the survey's unsettled pixels, see
+/// [`Renderer::spread`]) summing to `sum`, their squares to `squares`,
+/// raised by [`SPREAD_MARGIN_SE`] standard errors of that mean: the frame's
+/// unsettled pixels take shares P + (C − P) σ/σ̄ whose mean is C only where
+/// their spreads' mean is the grid's, and a small grid's may be far off.
+/// Rounded up; in integers.
+pub fn spread_margin(seen: u64, sum: u64, squares: u128) -> u32 {
+    let mean = sum.div_ceil(seen.max(1)) as u128;
+    if seen < 2 || sum == 0 {
+        return mean.min(u32::MAX as u128) as u32;
+    }
+    // SE / mean = √(D / seen) / sum, D = seen Σσ² − (Σσ)².
+    let d = (seen as u128 * squares).saturating_sub(sum as u128 * sum as u128) / seen as u128;
+    let root = crate::number::wide::isqrt_rem_u64(d.min(u64::MAX as u128) as u64).0 as u128 + 1;
+    let raised = mean + (SPREAD_MARGIN_SE as u128 * mean * root).div_ceil(sum as u128);
+    raised.min(u32::MAX as u128) as u32
+}
+
+/// How many standard errors of the survey's mean spread [`spread_margin`]
+/// adds: the margin that the shares' rounding down to whole rays lent
+/// before they took fractions (seed 6001 at `point` 18, 80x60, 70 grid
+/// pixels: 41.3 % of `point` with fractions and no margin).
+pub const SPREAD_MARGIN_SE: u64 = 3;
+
+/// The unsettled pixels' cap from `cap256`, in 256ths: its whole rays, for
+/// [`Renderer::cap`], and all of it, for [`Renderer::budget256`] (0 on the
+/// micro:bit, whose shares take whole rays).
+fn cap_parts(cap256: u32) -> (u32, u32) {
+    (cap256 >> 8, if cfg!(feature = "no-spare-floor") { 0 } else { cap256 })
 }
 
 /// The fewest pixels a survey takes: below it (images under about 32×32)
@@ -611,6 +644,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             self.rules |= LAMP_PARTS_RULE;
         }
         let (mut settled_pilots, mut unsettled, mut rays, mut spreads) = (0u64, 0u64, prior, 0u64);
+        // Their squares, for the margin on the shares (see [`spread_margin`]).
+        let mut spreads_sq = 0u128;
         // Grid pixels at the footprints' larger pilot, all and unsettled.
         let (mut plain_settled, mut risky, mut risky_unsettled) = (0u64, 0u64, 0u64);
         // Grid pixels that cast a lamp's ray beyond their pilot, and that kept it, by lamp.
@@ -635,6 +670,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 unsettled += 1;
                 risky_unsettled += (pilot != plain_pilot) as u64;
                 spreads += spread as u64;
+                spreads_sq += spread as u128 * spread as u128;
                 if !cfg!(feature = "no-spare-floor") {
                     // Half-octaves of spread, plain and raised pilots apart.
                     let e = 31 - spread.leading_zeros();
@@ -722,19 +758,24 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let (sharing, seen_sharing) = (unsettled - apart, seen - apart);
         let most = if lamps_apart { risk_pilot - 1 } else { self.samples };
         spent += 5 * (apart * risk_pilot as u64) as u128 * pixels;
+        // In 256ths: the shares take C's fraction (see [`Renderer::share`]).
         let cap_after = |rays: u64| match budget_after(rays).checked_sub(spent) {
-            _ if sharing == 0 => most,
-            Some(left) => (left / (5 * sharing as u128 * pixels)).min(most as u128) as u32,
+            _ if sharing == 0 => most << 8,
+            Some(left) => (256 * left / (5 * sharing as u128 * pixels)).min((most as u128) << 8) as u32,
             None => 0,
         };
-        self.cap = cap_after(rays);
+        (self.cap, self.budget256) = cap_parts(cap_after(rays));
         if self.cap < plain_pilot {
             // No room for a lamp's ray beyond the pilot (seed 11679, `point`
             // 10, its pilots the whole budget: 40.3 % of `point` with them).
             self.rules &= !LAMP_PARTS_RULE;
         }
         self.survey_rays = rays as u32;
-        self.spread = spreads.div_ceil(unsettled.max(1)).min(u32::MAX as u64) as u32;
+        self.spread = if cfg!(feature = "no-spare-floor") {
+            spreads.div_ceil(unsettled.max(1)).min(u32::MAX as u64) as u32
+        } else {
+            spread_margin(seen, spreads, spreads_sq)
+        };
         // Every share within `point` bounds what the unsettled pixels take.
         let mut doubling = self.cap == self.samples && !cfg!(feature = "no-spare-floor");
         if !cfg!(feature = "no-spare-floor") && self.cap < self.samples && seen > 0 {
@@ -751,12 +792,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 for (b, &n) in row.iter().enumerate() {
                     // The half-octave's middle: 1.25 or 1.75 times 2^(b/2) (under 2^32).
                     let mid = ((1u64 << (b / 2)) * (5 + 2 * (b & 1) as u64) / 4) as u32;
-                    sum += n as u64 * self.own_share(self.cap, pilots[k], mid, true) as u64;
+                    sum += n as u64 * self.own_share256(self.cap, pilots[k], mid, true) as u64;
                 }
             }
-            // sum / seen <= left / (5 U N).
+            // sum / (256 seen) <= left / (5 U N): the shares are in 256ths.
             let left = budget.saturating_sub(spent);
-            doubling = sum as u128 * 5 * sharing as u128 * pixels <= left * seen_sharing as u128;
+            doubling = sum as u128 * 5 * sharing as u128 * pixels <= 256 * left * seen_sharing as u128;
         }
         // The shares are each pixel's most: where their sum says no, the grid
         // rendered with the doubling says how many rays it takes, most pixels
@@ -784,7 +825,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             doubling = 5 * (sum + 3 * dev) as u128 * pixels <= budget_after(rays);
             if !doubling {
                 // The pass's rays come out of the cap.
-                self.cap = cap_after(rays);
+                (self.cap, self.budget256) = cap_parts(cap_after(rays));
             }
         }
         self.rules = raised | (doubling as u32) << 16 | (measured as u32) << 19;
@@ -851,7 +892,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 self.floor = (plain as u128 + extra(left)).min(self.samples as u128) as u32;
             } else if worth {
                 // No floor: the pass's rays come out of the cap.
-                self.cap = cap_after(rays);
+                (self.cap, self.budget256) = cap_parts(cap_after(rays));
             }
             self.survey_rays = rays as u32;
         }
@@ -1523,6 +1564,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             && !self.camera.is_pinhole()
     }
 
+    /// The survey's mean spread, margin included (see [`spread_margin`];
+    /// diagnosis): the σ̄ of the unsettled pixels' shares.
+    #[doc(hidden)]
+    pub fn survey_spread(&self) -> u32 {
+        self.spread
+    }
+
     /// [`Renderer::pixel_rays`] and the pixel's spread at its last check if
     /// it was not settled there, else 0; below [`ADAPTIVE_MIN_POINT`] with
     /// extension on (see [`Renderer::extends`]), the powers of two n, as
@@ -1833,30 +1881,53 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// The cap of an unsettled pixel of pilot `pilot` and spread `spread`
     /// where the frame's is `most`, dithered to a power of two.
     fn share(&self, most: u32, pilot: u32, spread: u32, col: u32, row: u32) -> u32 {
-        dithered_cap(self.own_share(most, pilot, spread, self.doubling()), col, row).min(self.samples)
+        if cfg!(feature = "no-spare-floor") {
+            return dithered_cap(self.own_share(most, pilot, spread), col, row).min(self.samples);
+        }
+        dithered_ratio(self.own_share256(most, pilot, spread, self.doubling()), 256, col, row).min(self.samples)
     }
 
-    /// [`Renderer::share`] before its dither, doubling or not (the survey
-    /// sums it to decide [`Renderer::doubling`]).
-    fn own_share(&self, most: u32, pilot: u32, spread: u32, doubling: bool) -> u32 {
-        // In u32, saturating (lamps' spreads): the micro:bit's flash. No
-        // survey spread: the frame's cap.
-        let own = match most
+    /// [`Renderer::share`] before its dither, in whole rays (rounded down):
+    /// the micro:bit's, whose flash has no room for [`Renderer::own_share256`].
+    fn own_share(&self, most: u32, pilot: u32, spread: u32) -> u32 {
+        // In u32, saturating (lamps' spreads). No survey spread: the frame's cap.
+        match most
             .saturating_sub(pilot)
             .saturating_mul(spread)
             .checked_div(self.spread)
         {
             Some(extra) => pilot.saturating_add(extra).min(self.samples),
             None => most.max(pilot),
+        }
+    }
+
+    /// [`Renderer::share`] before its dither, doubling or not, in 256ths of
+    /// a ray: P + (C − P) σ/σ̄ with C the frame's cap before it was rounded
+    /// down where `most` is it (the survey sums it to decide
+    /// [`Renderer::doubling`]). Whole rays rounded every share down, and C
+    /// to the pilot where it was under one ray above it: a frame's unsettled
+    /// pixels then all stopped at their pilot (seed 11777 at `point` 21 and
+    /// 22, -2.66 and -2.83 dB against the floor); the margin that rounding
+    /// lent is now σ̄'s (see [`spread_margin`]).
+    fn own_share256(&self, most: u32, pilot: u32, spread: u32, doubling: bool) -> u32 {
+        let most256 = match self.budget256 {
+            c if c > 0 && most == self.cap && c >> 8 == most => c as u64,
+            _ => (most as u64) << 8,
+        };
+        let pilot256 = (pilot as u64) << 8;
+        let own = match (most256.saturating_sub(pilot256) * spread as u64).checked_div(self.spread as u64) {
+            Some(extra) => (pilot256 + extra).min((self.samples as u64) << 8),
+            None => most256.max(pilot256),
         };
         // At least one doubling where the cap allows: a spread far under the
         // frame's mean (lamps' rims raise it) is no sign of a settled mean
         // (seed 9027: such pixels stopped at 4 of 14 with 7 times the error).
-        if !cfg!(feature = "no-spare-floor") && doubling && most >= 2 * pilot {
-            own.max(2 * pilot)
+        let own = if doubling && most >= 2 * pilot {
+            own.max(2 * pilot256)
         } else {
             own
-        }
+        };
+        own.min(u32::MAX as u64) as u32
     }
 
     /// The plane that cuts this lens, if one does (see [`cut`]).
