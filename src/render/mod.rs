@@ -47,14 +47,17 @@ pub struct Renderer<'a, S: Scalar> {
     pub(crate) defocus: Defocus<S>,
     /// The most samples an adaptive pixel that is not settled takes: the
     /// frame's ray budget spread over the pixels the survey found unsettled
-    /// (see [`Renderer::pixel_rays`]).
+    /// (see [`Renderer::pixel_rays`]), rounded down to whole rays (the
+    /// shares take its fraction, [`Renderer::budget256`]).
     pub(crate) cap: u32,
     /// Lens rays the survey that set `cap` cast.
     pub(crate) survey_rays: u32,
     /// The mean spread (standard deviation of a sample, sixteenths of a
     /// level, summed over channels) of the survey's unsettled pixels at their
-    /// pilot; 0 without a survey. An unsettled pixel's share of the budget
-    /// beyond its pilot grows with its own spread over this one.
+    /// pilot, raised by [`spread_margin`] (the micro:bit's: their sum over
+    /// the unsettled count and its margin); 0 without a survey. An unsettled
+    /// pixel's share of the budget beyond its pilot grows with its own
+    /// spread over this one.
     pub(crate) spread: u32,
     /// The mean samples a pixel that settles at its plain pilot takes where
     /// the survey found budget to spare (rays left once the unsettled pixels
