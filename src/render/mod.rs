@@ -277,7 +277,7 @@ fn dithered_ratio(num: u32, den: u32, col: u32, row: u32) -> u32 {
 }
 
 /// The mean of the `seen` spreads (of the survey's unsettled pixels, see
-/// [`Renderer::spread`]) summing to `sum`, their squares to `squares`,
+/// [`Renderer::survey_spread`]) summing to `sum`, their squares to `squares`,
 /// raised by [`SPREAD_MARGIN_SE`] standard errors of that mean: the frame's
 /// unsettled pixels take shares P + (C − P) σ/σ̄ whose mean is C only where
 /// their spreads' mean is the grid's, and a small grid's may be far off.
