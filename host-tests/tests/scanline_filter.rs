@@ -4,7 +4,8 @@
 //! `FAR_COC_PIXELS` or below `point` 20 `SMALL_PILOT_COC_PIXELS` (circles of confusion recomputed here in f64 from each
 //! ray's own hit) and their rays all met lamps or all met none (a pixel
 //! whose rays met both counts as meeting none where every lamp it met is
-//! spread over the brightest lamp's bound times the gate), and then it
+//! spread over the brightest lamp's bound times the gate, and as a lamp's
+//! where all else it met is in front of every lamp and spread as far), and then it
 //! is exactly (1, 2, 1)/4 of the three, or (1, 4, 6, 4, 1)/16 of five where
 //! it and its four neighbours see only what is spread over twice that (of
 //! their own values, in 256ths of a level, rounded once); never
@@ -21,15 +22,19 @@ use lensray::{progressive, CameraSample, Renderer, Scalar, Scene, I16F16};
 /// pixel (`col`, `row`) casts (a miss: a point at infinity), and what they
 /// met: bit 0 a lamp (a bright object), bit 1 anything else; a pixel that
 /// met both is 2 where every lamp's hit is spread over the brightest lamp's
-/// bound times the gate, 3 where one is not, and 4 within 2 % of it (either
-/// may hold: Q16.16's depths against f64's).
+/// bound times the gate, else 1 where every other hit is in front of every
+/// lamp's and spread as far, else 3, and 4 within 2 % of a gate or depth
+/// (either may hold: Q16.16's depths against f64's).
 fn smallest_coc<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row: u32) -> (f64, u8) {
     let (coc, met, _) = coc_and_lamps(r, scene, col, row);
     (coc, met)
 }
 
 /// [`smallest_coc`], and whether the pixel met a lamp and something else
-/// and is class 2 by the lamp's gate (a rim the filter may mix across).
+/// and is class 2 by the lamp's gate or class 1 by its occluder's (a rim the
+/// filter may mix across): where all else it met is in front of every lamp
+/// and spread over that gate too, it counts as a lamp's (within 2 % of the
+/// gate or of the lamp's depth, 4: either may hold).
 fn coc_and_lamps<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row: u32) -> (f64, u8, bool) {
     let cam = &scene.camera;
     let z_f = cam.focus_depth();
@@ -40,6 +45,9 @@ fn coc_and_lamps<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row
     let film = camera.film_point(col, row);
     let mut lens = PixelSamples::new(r.sampler(), col, row);
     let (mut coc, mut met, mut lamp_coc) = (f64::INFINITY, 0, f64::INFINITY);
+    // The others' least circle of confusion (a miss: none in front), the
+    // lamps' nearest depth and the others' farthest.
+    let (mut other_coc, mut lamp_z, mut other_z) = (f64::INFINITY, f64::INFINITY, 0.0f64);
     for _ in 0..count {
         let ray = camera.generate_ray(&CameraSample {
             film: &film,
@@ -54,11 +62,16 @@ fn coc_and_lamps<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row
                 let c = if z > 0.0 { k * (1.0 - z_f / z).abs() } else { 0.0 };
                 if lamp {
                     lamp_coc = lamp_coc.min(c);
+                    lamp_z = lamp_z.min(z);
+                } else {
+                    other_coc = other_coc.min(c);
+                    other_z = other_z.max(z);
                 }
                 c
             }
             None => {
                 met |= 2;
+                other_coc = 0.0;
                 k
             }
         };
@@ -67,15 +80,24 @@ fn coc_and_lamps<S: Scalar>(r: &Renderer<'_, S>, scene: &Scene<S>, col: u32, row
     let both = met == 3;
     if both {
         let gate = far_coc_pixels(r.samples()) * r.bright_footprints().lamp() as f64;
+        // The occluder's rule: every other hit in front of every lamp hit and spread past the gate.
+        let (occluded, unsure) = (
+            other_coc >= 1.02 * gate && other_z < 0.98 * lamp_z,
+            other_coc >= 0.98 * gate && other_z < 1.02 * lamp_z,
+        );
         met = if lamp_coc >= 1.02 * gate {
             2
-        } else if lamp_coc < 0.98 * gate {
-            3
-        } else {
+        } else if lamp_coc >= 0.98 * gate {
             4
+        } else if occluded {
+            1
+        } else if unsure {
+            4
+        } else {
+            3
         };
     }
-    (coc, met, both && met == 2)
+    (coc, met, both && (met == 1 || met == 2))
 }
 
 /// (1, 4, 6, 4, 1)/16 of five pixels' own values (256ths of a level),
@@ -241,6 +263,43 @@ fn a_lamp_far_enough_out_of_focus_is_mixed_across_its_rim() {
                 assert!(mixed > both / 4, "intensity {intensity}: {mixed} of {both} mixed");
             } else {
                 assert_eq!(mixed, 0, "intensity {intensity}: rims mixed");
+            }
+        }
+    }
+}
+
+/// A dim sphere just before the lens, in front of a lamp lit past its gate:
+/// the rim it makes through part of every pixel's lens is its own
+/// silhouette, spread over far more than the lamp's bound times the gate, so
+/// the pixels that see both are a lamp's and mixed with their neighbours
+/// (seed 12194: a near sphere in a tenth of each pixel's lens, -2.88 ->
+/// +0.10 dB against the floor at `point` 8); a larger one farther off,
+/// still in front but too near focus to pass that gate, is never mixed across.
+#[test]
+fn a_lamps_rim_behind_a_near_occluder_is_mixed_as_the_lamp() {
+    for (z, mixes) in [(-1.2, true), (-40.0, false)] {
+        let size = if mixes { 0.4 } else { 8.0 };
+        // A light behind the lamp makes its bound (29 times white); the one
+        // before it shows it dim, so that a mix is seen.
+        let text = format!(
+            "point 40\nradius 1.5\nfocal_length 4\nimage_distance 8\nwidth 2\n\
+             light_position 0 0 10\nlight_intensity 0.8 0.8 0.8\nambient_light 0.2 0.2 0.2\n\
+             light_position 0 0 -400\nlight_intensity 40 40 40\n\
+             object sphere\nKa 0.2 0.2 0.2\nKd 0.5 0.5 0.5\nKs 0.2 0.2 0.2\nscale 60 60 60\ntranslate 0 0 -120\n\
+             object sphere\nKa 0.3 0.3 0.3\nKd 0.05 0.05 0.05\nKs 0 0 0\nscale {size} {size} {size}\ntranslate 0.1 0 {z}\n"
+        );
+        let q = Scene::<I16F16>::parse(&text).unwrap();
+        let f = Scene::<f32>::parse(&text).unwrap();
+        let lamp = Renderer::new(&q, 48, 36).bright_footprints().lamp();
+        assert!(lamp > 20, "z {z}: the far sphere is a lamp ({lamp})");
+        check(&q, 48, 36, &format!("z {z} Q16.16"));
+        check(&f, 48, 36, &format!("z {z} f32"));
+        for (both, mixed) in [rims(&q, 48, 36), rims(&f, 48, 36)] {
+            assert!(both > 50, "z {z}: {both} pixels see the lamp and the sphere");
+            if mixes {
+                assert!(mixed > both / 4, "z {z}: {mixed} of {both} mixed");
+            } else {
+                assert_eq!(mixed, 0, "z {z}: rims mixed");
             }
         }
     }

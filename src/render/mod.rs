@@ -1685,6 +1685,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let mut wide = far;
         // And while every lamp's ray met it spread over its brightness times the gate.
         let mut lamp_far = far;
+        // And while everything else met is spread over that too; with the
+        // nearest lamp's and the farthest other hit's depth ratios.
+        let mut occluder_far = far;
+        let (mut lamp_near, mut occluder_back) = (S::MAX, S::ZERO);
         let mut lamps = 0u8;
         let mut stratum = self.defocus.stratum(check.min(full));
         // With gaps: whether some ray met a checker (see [`scanline::fills`]).
@@ -1754,16 +1758,27 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 far = match t {
                     Some((i, t)) => {
                         let bright = self.bright.is_bright(i);
-                        let lamp = if bright { self.bright.lamp() } else { 0 };
-                        let (f, w, l) = gate.far_hits(ray.dir, t, lamp);
+                        let (f, w, l, u) = gate.far_hits(ray.dir, t, self.bright.lamp());
                         lamps |= if bright { 1 } else { 2 };
-                        // Only a lamp's own hits decide its gate.
-                        lamp_far &= l || !bright;
+                        if bright {
+                            // Only a lamp's own hits decide its gate.
+                            lamp_far &= l;
+                            if u < lamp_near {
+                                lamp_near = u;
+                            }
+                        } else {
+                            occluder_far &= l;
+                            if u > occluder_back {
+                                occluder_back = u;
+                            }
+                        }
                         wide &= w;
                         f
                     }
                     None => {
                         lamps |= 2;
+                        // A miss is behind every lamp: no occluder.
+                        occluder_far = false;
                         wide &= gate.wide_miss();
                         gate.far_miss()
                     }
@@ -1871,7 +1886,13 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // filtered only where every lamp it met is spread over its brightness
         // times the gate (the rim then changes no faster than an object's edge
         // at the gate), and then with anything of the same blur.
-        let lamps = if lamps == 3 && lamp_far { 2 } else { lamps };
+        // Or where all else it met is in front of every lamp and spread as far:
+        // the rim is that occluder's silhouette, as soft, and the pixel is a lamp's.
+        let lamps = match lamps {
+            3 if lamp_far => 2,
+            3 if occluder_far && occluder_back < lamp_near => 1,
+            _ => lamps,
+        };
         let class = if far && lamps != 3 {
             lamps | if wide { scanline::WIDE } else { 0 }
         } else {
