@@ -6,7 +6,9 @@ and the repository's scenes.
     python3 scripts/still-lifes.py FIRST COUNT DIR
 
 writes DIR/sFIRST.scene .. and prints their paths, comma-separated, for
-LENSRAY_CAMPAIGN_SCENES (BENCHMARKS.md, twenty-seventh round):
+LENSRAY_CAMPAIGN_SCENES (BENCHMARKS.md, twenty-seventh round); with a
+fourth argument `foreground`, DIR/fFIRST.scene .., the same still lifes
+with one or two solids just before the lens (twenty-ninth round):
 
     mkdir -p /tmp/still
     LENSRAY_CAMPAIGN_SCENES=$(python3 scripts/still-lifes.py 1 40 /tmp/still) \\
@@ -94,13 +96,52 @@ def scene(s):
     return '\n'.join(out) + '\n'
 
 
+def foreground(s, text):
+    """Still life s with one or two solids just before the lens, far out of
+    focus across part of the view (a photographer's foreground blur): its own
+    random stream, so the still life behind is scene(s) as it is."""
+    rng = random.Random(1000003 * s + 17)
+    field = {}
+    for line in text.splitlines():
+        k = line.split()
+        if k and k[0] in ('width', 'image_distance'):
+            field[k[0]] = float(k[1])
+        if k and k[0] == 'lens_position':
+            field['height'] = float(k[2])
+    # Half the view's width a unit of depth.
+    half = field['width'] / 2 / field['image_distance']
+    out = [text.rstrip('\n')]
+    for _ in range(rng.randint(1, 2)):
+        z = -rng.uniform(0.4, 4)
+        size = rng.uniform(0.05, 0.5) * -z * half
+        shape = rng.choice(SHAPES)
+        if rng.random() < 0.5:
+            out.append('object %s %s' % (shape, rng.choice(MATERIALS)))
+        else:
+            out.append('object %s' % shape)
+            out.append('Kd %s' % ' '.join(f(rng.uniform(0, 0.9)) for _ in range(3)))
+            ks = rng.uniform(0, 1)
+            out.append('Ks %s %s %s' % (f(ks), f(ks), f(ks)))
+            out.append('shine %s' % f(rng.choice([5, 20, 60, 128])))
+        if rng.random() < 0.2:
+            out.append('texture %s' % f(rng.uniform(0.05, 0.5) * size))
+        out.append('total_transformation 3')
+        out.append('scale %s %s %s' % (f(size), f(size * rng.uniform(0.6, 1.6)), f(size)))
+        out.append('rotate %s %d' % (rng.choice('xyz'), rng.randint(0, 90)))
+        # Up to the view's edge, the solid's centre in front of the lens by -z.
+        out.append('translate %s %s %s' % (f(rng.uniform(-1, 1) * -z * half),
+                                           f(field['height'] + rng.uniform(-0.75, 0.75) * -z * half), f(z)))
+    return '\n'.join(out) + '\n'
+
+
 def main():
     first, count, out = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
+    fore = len(sys.argv) > 4 and sys.argv[4] == 'foreground'
     names = []
     for s in range(first, first + count):
-        p = os.path.join(out, 's%d.scene' % s)
+        p = os.path.join(out, ('f%d.scene' if fore else 's%d.scene') % s)
         with open(p, 'w') as fh:
-            fh.write(scene(s))
+            fh.write(foreground(s, scene(s)) if fore else scene(s))
         names.append(p)
     print(','.join(names))
 
