@@ -1887,13 +1887,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         // times the gate (the rim then changes no faster than an object's edge
         // at the gate), and then with anything of the same blur.
         // Or where all else it met is in front of every lamp and spread as far:
-        // the rim is that occluder's silhouette, as soft, and the pixel is a lamp's.
+        // the rim is that occluder's silhouette, as soft, and the pixel may be
+        // mixed with a lamp's pixels or with the others' (class 3, both bits).
         let lamps = match lamps {
             3 if lamp_far => 2,
-            3 if occluder_far && occluder_back < lamp_near => 1,
+            3 if occluder_far && occluder_back < lamp_near => 3,
+            3 => 0,
             _ => lamps,
         };
-        let class = if far && lamps != 3 {
+        let class = if far && lamps != 0 {
             lamps | if wide { scanline::WIDE } else { 0 }
         } else {
             0

@@ -31,9 +31,12 @@
 //! and spread over B times the gate, the rim is that occluder's silhouette
 //! on the lens (with two things met, the lens points that see the far one
 //! are those whose rays pass the near one), which moves across the lens as
-//! slowly, and the pixel counts as a lamp's (seed 12194: a dim sphere 1.6
-//! units from a lens of radius 1.1, in a tenth of every pixel's lens before
-//! a lamp in focus within 4 pixels: -2.88 -> +0.10 dB against the floor).
+//! slowly: the pixel is a soft rim (class 3) and may be mixed with
+//! neighbours that all met lamps or with neighbours that met none, not with
+//! both at once (seed 12194: a dim sphere 1.6 units from a lens of radius
+//! 1.1, in a tenth of every pixel's lens, before a lamp in focus within 4
+//! pixels, -2.88 -> +0.10 dB against the floor; seed 11777 at `point` 20, a
+//! lamp's highlight through a sliver beside a near cylinder, -2.43 -> +2.92).
 //! (Classing a lamp's ray by its own colour instead, a lamp only above
 //! white, lost up to 4 dB: a pixel whose few rays missed a lamp's hot part
 //! was then mixed across the rim its converged value has.)
@@ -271,8 +274,8 @@ pub fn fills(left: (Fine, u8), right: (Fine, u8), loose: u8, checkers: bool) -> 
     // A checker may hide a square between two anchors of one colour.
     let smooth = (loose > 0 && checkers) || (left.1 | right.1) & TEXTURED == 0 || left.1 & right.1 & 3 != 0;
     let near = smooth && close(0) && close(1) && close(2);
-    let (l, r) = (left.1 & FILTER_BITS, right.1 & FILTER_BITS);
-    let far = l & 3 != 0 && l & WIDE != 0 && l == r;
+    let both = left.1 & right.1;
+    let far = both & 3 != 0 && both & WIDE != 0;
     far || near
 }
 
@@ -283,7 +286,15 @@ pub fn fills(left: (Fine, u8), right: (Fine, u8), loose: u8, checkers: bool) -> 
 pub(crate) fn interpolate(left: (Fine, u8), right: (Fine, u8), d: u32, period: u32) -> (Fine, u8) {
     let (a, b) = (left.0 .0, right.0 .0);
     let m = |i: usize| ((a[i] as u32 * (period - d) + b[i] as u32 * d + period / 2) / period) as u16;
-    let class = if left.1 == right.1 { left.1 } else { 0 };
+    // A soft rim's anchor (3) beside one of a single lamp class: that class.
+    let (both, either) = (left.1 & right.1, left.1 | right.1);
+    let class = if left.1 == right.1 {
+        left.1
+    } else if either & 3 == 3 && both & 3 != 0 {
+        both & FILTER_BITS
+    } else {
+        0
+    };
     (Fine([m(0), m(1), m(2)]), class)
 }
 
@@ -292,10 +303,10 @@ pub(crate) fn interpolate(left: (Fine, u8), right: (Fine, u8), d: u32, period: u
 /// where some ray met something within [`FAR_COC_PIXELS`] (see
 /// [`Defocus::far_hits`]) or met both a lamp and something else (unless
 /// every lamp's hit passed its gate: then 2; or every other hit passed it in
-/// front of every lamp's: then 1), else 1 if they all met lamps,
+/// front of every lamp's: then 3, a soft rim), else 1 if they all met lamps,
 /// 2 if none did, with [`WIDE`] where every ray passed the 5-tap's gate. A
-/// pixel is filtered where it and both neighbours share a class other than
-/// 0 (the 5-tap where it and two each side share one with [`WIDE`]); the
+/// pixel is filtered where it and both neighbours hold one class, 1 or 2 (3
+/// holds both; the 5-tap where it and two each side do, all with [`WIDE`]); the
 /// filter ignores [`TEXTURED`], which only gaps read. With gaps
 /// ([`Scanline::with_gaps`]) a gap's columns are rendered after the anchor
 /// on their right, or not at all.
@@ -425,17 +436,16 @@ impl<F: FnMut(u32) -> (Fine, u32, u8)> Iterator for Scanline<F> {
         let [a2, a, b, c, c2] = self.window;
         self.window = [a, b, c, c2, (Fine::BLACK, 0)];
         self.col = col + 1;
-        let low = b.1 & 3;
-        let class = |p: (Fine, u8)| p.1 & FILTER_BITS;
-        Some(
-            if b.1 & WIDE != 0 && [a2, a, c, c2].iter().all(|&p| class(p) == class(b)) {
-                mix5(a2.0, a.0, b.0, c.0, c2.0)
-            } else if low != 0 && a.1 & 3 == low && c.1 & 3 == low {
-                mix(a.0, b.0, c.0)
-            } else {
-                b.0.rgb()
-            },
-        )
+        // The lamp classes the three and the five share (a soft rim's, 3, shares both).
+        let three = a.1 & b.1 & c.1;
+        let five = three & a2.1 & c2.1;
+        Some(if five & WIDE != 0 && five & 3 != 0 {
+            mix5(a2.0, a.0, b.0, c.0, c2.0)
+        } else if three & 3 != 0 {
+            mix(a.0, b.0, c.0)
+        } else {
+            b.0.rgb()
+        })
     }
 }
 
@@ -466,9 +476,10 @@ mod tests {
     }
 
     /// Random rows of random classes: a pixel is the 5-tap mix exactly where
-    /// it and its four neighbours share a class with [`WIDE`], else the 3-tap
-    /// mix where it and both neighbours share a lamp class other than 0 (never
-    /// at a row's ends), else itself; every pixel is rendered once, in order, and its rays counted.
+    /// it and its four neighbours all have [`WIDE`] and hold one lamp class
+    /// (1 or 2; a soft rim, 3, holds both), else the 3-tap mix where it and
+    /// both neighbours hold one (never at a row's ends), else itself; every
+    /// pixel is rendered once, in order, and its rays counted.
     #[test]
     fn a_pixel_is_mixed_only_between_neighbours_of_its_own_class() {
         let mut next = crate::test_rng::xorshift32(0x5ca1_ab1e);
@@ -480,7 +491,7 @@ mod tests {
                 .map(|_| {
                     let c = random_fine(&mut next);
                     if next().is_multiple_of(5) {
-                        class = [0, 1, 2, 2, 2, 6, 6, 6, 5][(next() % 9) as usize];
+                        class = [0, 1, 2, 2, 2, 6, 6, 6, 5, 3, 7, 7][(next() % 12) as usize];
                     }
                     (c, next() % 70, class)
                 })
@@ -491,9 +502,15 @@ mod tests {
             for c in 0..len as usize {
                 let inner = c > 0 && c + 1 < len as usize;
                 let wide = c > 1 && c + 2 < len as usize;
-                let class = row[c].2;
-                let low = class & 3;
-                if wide && class & WIDE != 0 && (c - 2..=c + 2).all(|i| row[i].2 == class) {
+                // Pixels `range` all hold lamp class 1 or all hold 2.
+                let hold = |range: std::ops::RangeInclusive<usize>, bits: u8| {
+                    [1u8, 2].iter().any(|&k| {
+                        range
+                            .clone()
+                            .all(|i| row[i].2 & bits == bits && matches!(row[i].2 & 3, x if x == k || x == 3))
+                    })
+                };
+                if wide && hold(c - 2..=c + 2, WIDE) {
                     let p = |i: usize| row[i].0;
                     assert_eq!(
                         out[c],
@@ -501,7 +518,7 @@ mod tests {
                         "len {len} col {c}"
                     );
                     wide_mixed += 1;
-                } else if inner && low != 0 && row[c - 1].2 & 3 == low && row[c + 1].2 & 3 == low {
+                } else if inner && hold(c - 1..=c + 1, 0) {
                     assert_eq!(out[c], mix(row[c - 1].0, row[c].0, row[c + 1].0), "len {len} col {c}");
                     mixed += 1;
                 } else {
@@ -538,7 +555,7 @@ mod tests {
                 .map(|_| {
                     if next().is_multiple_of(4) {
                         base = [next() as u8, next() as u8, next() as u8];
-                        class = [0, 2, 6, 5, 8, 14, 1][(next() % 7) as usize];
+                        class = [0, 2, 6, 5, 8, 14, 1, 3, 7][(next() % 9) as usize];
                     }
                     // Within about two levels of the run's base, any fraction.
                     let mut jitter = |b: u8| ((b as u32 * 256 + next() % 640).min(65280)) as u16;
