@@ -255,22 +255,27 @@ fn a_lamp_far_enough_out_of_focus_is_mixed_across_its_rim() {
              object sphere\nKa 0.2 0.2 0.2\nKd 1 1 1\nKs 1 1 1\nscale 40 40 40\ntranslate 30 0 -200\n\
              object sphere\nKa 0.3 0.3 0.3\nKd 0.05 0.05 0.05\nKs 0 0 0\nscale 12 12 12\ntranslate -8 0 -60\n"
         );
-        let q = Scene::<I16F16>::parse(&text).unwrap();
-        let f = Scene::<f32>::parse(&text).unwrap();
-        let lamp = Renderer::new(&q, 48, 36).bright_footprints().lamp();
-        assert!(lamp > 4, "intensity {intensity}: the far sphere is a lamp ({lamp})");
-        check(&q, 48, 36, &format!("intensity {intensity} Q16.16"));
-        check(&f, 48, 36, &format!("intensity {intensity} f32"));
-        for (both, mixed) in [rims(&q, 48, 36), rims(&f, 48, 36)] {
-            assert!(
-                both > 50,
-                "intensity {intensity}: {both} pixels see the lamp and the sphere"
-            );
-            if mixes {
-                assert!(mixed > both / 4, "intensity {intensity}: {mixed} of {both} mixed");
-            } else {
-                assert_eq!(mixed, 0, "intensity {intensity}: rims mixed");
-            }
+        rims_mixed(&text, &format!("intensity {intensity}"), 4, mixes);
+    }
+}
+
+/// `text` at 48x36 in both number types, its lamp's bound above
+/// `least_lamp`: [`check`]'s checks on every row, more than 50 pixels that
+/// see the lamp and something else, and of them more than a quarter mixed
+/// where `mixes`, else none.
+fn rims_mixed(text: &str, label: &str, least_lamp: u16, mixes: bool) {
+    let q = Scene::<I16F16>::parse(text).unwrap();
+    let f = Scene::<f32>::parse(text).unwrap();
+    let lamp = Renderer::new(&q, 48, 36).bright_footprints().lamp();
+    assert!(lamp > least_lamp, "{label}: the far sphere is a lamp ({lamp})");
+    check(&q, 48, 36, &format!("{label} Q16.16"));
+    check(&f, 48, 36, &format!("{label} f32"));
+    for (both, mixed) in [rims(&q, 48, 36), rims(&f, 48, 36)] {
+        assert!(both > 50, "{label}: {both} pixels see the lamp and the sphere");
+        if mixes {
+            assert!(mixed > both / 4, "{label}: {mixed} of {both} mixed");
+        } else {
+            assert_eq!(mixed, 0, "{label}: rims mixed");
         }
     }
 }
@@ -295,20 +300,7 @@ fn a_lamps_rim_behind_a_near_occluder_is_mixed_with_either_side() {
              object sphere\nKa 0.2 0.2 0.2\nKd 0.5 0.5 0.5\nKs 0.2 0.2 0.2\nscale 60 60 60\ntranslate 0 0 -120\n\
              object sphere\nKa 0.3 0.3 0.3\nKd 0.05 0.05 0.05\nKs 0 0 0\nscale {size} {size} {size}\ntranslate 0.1 0 {z}\n"
         );
-        let q = Scene::<I16F16>::parse(&text).unwrap();
-        let f = Scene::<f32>::parse(&text).unwrap();
-        let lamp = Renderer::new(&q, 48, 36).bright_footprints().lamp();
-        assert!(lamp > 20, "z {z}: the far sphere is a lamp ({lamp})");
-        check(&q, 48, 36, &format!("z {z} Q16.16"));
-        check(&f, 48, 36, &format!("z {z} f32"));
-        for (both, mixed) in [rims(&q, 48, 36), rims(&f, 48, 36)] {
-            assert!(both > 50, "z {z}: {both} pixels see the lamp and the sphere");
-            if mixes {
-                assert!(mixed > both / 4, "z {z}: {mixed} of {both} mixed");
-            } else {
-                assert_eq!(mixed, 0, "z {z}: rims mixed");
-            }
-        }
+        rims_mixed(&text, &format!("z {z}"), 20, mixes);
     }
 }
 
