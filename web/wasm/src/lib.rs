@@ -10,11 +10,16 @@
 //! which the page copies onto its canvas. [`lr_depth_at`] is the click-to-focus
 //! query: the depth of what the pixel's chief ray meets first.
 //!
+//! [`lr_setup`] builds one renderer per number type and keeps it until the
+//! next parse or set-up: its set-up (the adaptive survey of the frame) costs
+//! as much as many rows, and the page calls in a row or a pixel at a time.
+//!
 //! Number types are selected by an integer: 0 is Q16.16, 1 is `f32`.
 //! Every function is total: bad indices or a missing scene return 0, -1 or
 //! NaN as documented, never a trap.
 
 use std::cell::RefCell;
+use std::ptr::NonNull;
 
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{OriginDimensions, Size};
@@ -35,13 +40,57 @@ struct State {
     text: Vec<u8>,
     message: String,
     error_line: u32,
-    fixed: Option<Box<Scene<I16F16>>>,
-    float: Option<Box<Scene<f32>>>,
+    fixed: Option<Loaded<I16F16>>,
+    float: Option<Loaded<f32>>,
     width: u32,
     height: u32,
     passes: Vec<Pass>,
     /// RGBA, row-major, one image per number type.
     images: [Vec<u8>; 2],
+}
+
+/// A parsed scene and, after [`lr_setup`], its renderer for the set size,
+/// which borrows the scene: the one self-reference, so the one `unsafe` here.
+struct Loaded<S: Scalar + 'static> {
+    /// Borrows `*scene`; cleared before the scene is freed (see `Drop`).
+    renderer: Option<Renderer<'static, S>>,
+    /// Owned (from `Box::leak`), never moved or mutated, freed in `Drop`.
+    scene: NonNull<Scene<S>>,
+}
+
+impl<S: Scalar + 'static> Loaded<S> {
+    fn new(scene: Scene<S>) -> Self {
+        Loaded {
+            renderer: None,
+            scene: NonNull::from(Box::leak(Box::new(scene))),
+        }
+    }
+
+    fn scene(&self) -> &Scene<S> {
+        // SAFETY: the scene lives until `Drop` and is only ever shared.
+        unsafe { self.scene.as_ref() }
+    }
+
+    /// Builds the renderer for a `width` × `height` image.
+    fn set_size(&mut self, width: u32, height: u32) {
+        self.renderer = None;
+        // SAFETY: the renderer never outlives the scene: `Drop` clears it
+        // first, and it is only lent out for as long as `self` is borrowed.
+        let scene: &'static Scene<S> = unsafe { self.scene.as_ref() };
+        self.renderer = Some(Renderer::new(scene, width, height));
+    }
+
+    fn renderer(&self) -> Option<&Renderer<'_, S>> {
+        self.renderer.as_ref()
+    }
+}
+
+impl<S: Scalar + 'static> Drop for Loaded<S> {
+    fn drop(&mut self) {
+        self.renderer = None;
+        // SAFETY: from `Box::leak` in `new`, freed once, nothing borrows it now.
+        drop(unsafe { Box::from_raw(self.scene.as_ptr()) });
+    }
 }
 
 thread_local! {
@@ -106,8 +155,8 @@ pub extern "C" fn lr_parse() -> u32 {
         s.float = None;
         match (fixed, float) {
             (Ok(a), Ok(b)) => {
-                s.fixed = Some(Box::new(a));
-                s.float = Some(Box::new(b));
+                s.fixed = Some(Loaded::new(a));
+                s.float = Some(Loaded::new(b));
                 s.message.clear();
                 s.error_line = 0;
             }
@@ -152,11 +201,15 @@ pub extern "C" fn lr_setup(width: u32, height: u32, first_step: u32, preview_sam
             }
         }
         s.passes.clear();
-        let Some(scene) = s.fixed.as_deref() else {
+        let (Some(fixed), Some(float)) = (s.fixed.as_mut(), s.float.as_mut()) else {
             return 0;
         };
+        fixed.set_size(w, h);
+        float.set_size(w, h);
         // Both number types cast the same rays a pixel.
-        let rays = Renderer::new(scene, w, h).rays_per_pixel();
+        let Some(rays) = fixed.renderer().map(Renderer::rays_per_pixel) else {
+            return 0;
+        };
         s.passes.extend(Schedule::new(first_step, preview_samples, rays));
         s.passes.len() as u32
     })
@@ -201,18 +254,19 @@ pub extern "C" fn lr_render(number: u32, i: u32, first: u32, end: u32) -> f64 {
         match number {
             NUMBER_FIXED => s
                 .fixed
-                .as_deref()
-                .map_or(0.0, |sc| rows(sc, &mut target, &pass, first, end)),
+                .as_ref()
+                .and_then(Loaded::renderer)
+                .map_or(0.0, |r| rows(r, &mut target, &pass, first, end)),
             _ => s
                 .float
-                .as_deref()
-                .map_or(0.0, |sc| rows(sc, &mut target, &pass, first, end)),
+                .as_ref()
+                .and_then(Loaded::renderer)
+                .map_or(0.0, |r| rows(r, &mut target, &pass, first, end)),
         }
     })
 }
 
-fn rows<S: Scalar>(scene: &Scene<S>, target: &mut RgbaTarget<'_>, pass: &Pass, first: u32, end: u32) -> f64 {
-    let renderer = Renderer::new(scene, target.width, target.height);
+fn rows<S: Scalar>(renderer: &Renderer<'_, S>, target: &mut RgbaTarget<'_>, pass: &Pass, first: u32, end: u32) -> f64 {
     let per_pixel = if renderer.camera().is_pinhole() {
         1
     } else {
@@ -222,7 +276,7 @@ fn rows<S: Scalar>(scene: &Scene<S>, target: &mut RgbaTarget<'_>, pass: &Pass, f
     let mut pixels = 0u64;
     for g in first..end.min(target.height.div_ceil(step)) {
         let row = g * step;
-        let Ok(()) = progressive::render_pass_row(&renderer, target, pass, row);
+        let Ok(()) = progressive::render_pass_row(renderer, target, pass, row);
         pixels += (0..target.width).filter(|&c| pass.computes(c, row)).count() as u64;
     }
     pixels as f64 * per_pixel as f64
@@ -242,14 +296,8 @@ pub extern "C" fn lr_image(number: u32) -> *const u8 {
 #[no_mangle]
 pub extern "C" fn lr_depth_at(number: u32, col: u32, row: u32) -> f64 {
     with(|s| match number {
-        NUMBER_FIXED => s
-            .fixed
-            .as_deref()
-            .map_or(f64::NAN, |sc| hit_at(sc, s.width, s.height, col, row).1),
-        _ => s
-            .float
-            .as_deref()
-            .map_or(f64::NAN, |sc| hit_at(sc, s.width, s.height, col, row).1),
+        NUMBER_FIXED => s.fixed.as_ref().map_or(f64::NAN, |l| hit_at(l, col, row).1),
+        _ => s.float.as_ref().map_or(f64::NAN, |l| hit_at(l, col, row).1),
     })
 }
 
@@ -258,22 +306,18 @@ pub extern "C" fn lr_depth_at(number: u32, col: u32, row: u32) -> f64 {
 #[no_mangle]
 pub extern "C" fn lr_object_at(number: u32, col: u32, row: u32) -> u32 {
     with(|s| match number {
-        NUMBER_FIXED => s
-            .fixed
-            .as_deref()
-            .map_or(0, |sc| hit_at(sc, s.width, s.height, col, row).0),
-        _ => s
-            .float
-            .as_deref()
-            .map_or(0, |sc| hit_at(sc, s.width, s.height, col, row).0),
+        NUMBER_FIXED => s.fixed.as_ref().map_or(0, |l| hit_at(l, col, row).0),
+        _ => s.float.as_ref().map_or(0, |l| hit_at(l, col, row).0),
     })
 }
 
 /// The object (from 1; 0 for none) and depth (NaN for none) under a pixel's
 /// chief ray, from the lens centre through the pixel's film point: the ray
 /// every lens sample of that pixel converges with on the plane in focus.
-pub fn hit_at<S: Scalar>(scene: &Scene<S>, width: u32, height: u32, col: u32, row: u32) -> (u32, f64) {
-    let renderer = Renderer::new(scene, width.max(1), height.max(1));
+fn hit_at<S: Scalar>(loaded: &Loaded<S>, col: u32, row: u32) -> (u32, f64) {
+    let (scene, Some(renderer)) = (loaded.scene(), loaded.renderer()) else {
+        return (0, f64::NAN);
+    };
     let cam = renderer.camera();
     if col >= cam.cols() || row >= cam.rows() {
         return (0, f64::NAN);
@@ -297,7 +341,7 @@ pub fn hit_at<S: Scalar>(scene: &Scene<S>, width: u32, height: u32, col: u32, ro
 #[no_mangle]
 pub extern "C" fn lr_camera(what: u32) -> f64 {
     with(|s| {
-        let Some(sc) = s.float.as_deref() else {
+        let Some(sc) = s.float.as_ref().map(Loaded::scene) else {
             return f64::NAN;
         };
         let c = &sc.camera;
@@ -379,6 +423,49 @@ mod tests {
             }
         }
         rgba
+    }
+
+    #[test]
+    fn each_parse_and_set_up_renders_its_own_scene_and_size() {
+        // The renderer is kept from set-up to set-up: a new scene or size must not see the old one.
+        let text = program1().replace("point 70", "point 3");
+        let (w, h) = (24, 18);
+        assert_eq!(load(&text.replace("radius", "# radius")), 0);
+        lr_setup(w, h, 1, 0);
+        assert_eq!(load(&text), 0);
+        assert_eq!(
+            lr_object_at(NUMBER_FIXED, 0, 0),
+            0,
+            "parsed, not yet set up: nothing to ask"
+        );
+        for (w, h) in [(w, h), (w + 7, h - 5)] {
+            assert_eq!(lr_setup(w, h, 1, 0), 1);
+            assert_eq!(
+                lr_render(NUMBER_FIXED, 0, 0, h),
+                (w * h * 3) as f64,
+                "the lens scene's samples"
+            );
+            assert_eq!(
+                image(NUMBER_FIXED, w, h),
+                plain_render(&Scene::<I16F16>::parse(&text).unwrap(), w, h)
+            );
+            let (col, row) = (w / 2, h - 1);
+            assert_eq!(
+                lr_object_at(NUMBER_FLOAT, col, row),
+                1,
+                "the floor under the bottom row's middle"
+            );
+            let want = hit_at(
+                &{
+                    let mut l = Loaded::new(Scene::<f32>::parse(&text).unwrap());
+                    l.set_size(w, h);
+                    l
+                },
+                col,
+                row,
+            );
+            assert_eq!(lr_depth_at(NUMBER_FLOAT, col, row), want.1);
+        }
     }
 
     #[test]
