@@ -164,7 +164,7 @@ fn progressive_passes_placed_anywhere_and_any_step() {
         for pass in Schedule::new(4, 1, 2) {
             // A fresh canvas per pass: later passes repaint earlier blocks by design.
             let mut canvas = Canvas::at(Point::new(x, y), 8, 6);
-            let Ok(()) = render_pass(&renderer, &mut canvas, &pass);
+            let Ok(_) = render_pass(&renderer, &mut canvas, &pass);
             assert!(
                 canvas.fault.is_none(),
                 "pass {pass:?} at ({x}, {y}): {:?}",
@@ -181,9 +181,75 @@ fn progressive_passes_placed_anywhere_and_any_step() {
                 samples: 2,
             };
             let mut canvas = Canvas::new(8, 6);
-            let Ok(()) = render_pass(&renderer, &mut canvas, &pass);
+            let Ok(_) = render_pass(&renderer, &mut canvas, &pass);
             assert!(canvas.fault.is_none(), "{pass:?}: {:?}", canvas.fault);
             let _ = pass.computes(u32::MAX, 0);
         }
     }
+}
+
+/// Each pass says what its pixels cast: the full-sample passes' rays are
+/// each pixel's own (its `pixel_rays`), and where rows are filtered the last
+/// pass's are the plain render's rows (it redraws them whole).
+#[test]
+fn progressive_passes_count_the_rays_their_pixels_cast() {
+    use lensray::progressive::{render_pass, Schedule};
+    let mut filtered = [false; 2];
+    for (point, w, h, adaptive) in [
+        (40, 48, 36, "on"),
+        (12, 40, 30, "on"),
+        (4, 33, 21, "on"),
+        (12, 40, 30, "off"),
+    ] {
+        let text = format!("{PROGRAM1}\npoint {point}\nadaptive {adaptive}\n");
+        let scene: Scene<I16F16> = Scene::parse(&text).expect("Program 1 parses");
+        let renderer = Renderer::new(&scene, w, h);
+        let plain: u64 = (0..h)
+            .map(|row| renderer.render_row(row, &mut vec![Rgb888::BLACK; w as usize]) as u64)
+            .sum();
+        let passes: Vec<_> = Schedule::new(8, 1, renderer.rays_per_pixel()).collect();
+        let mut full = 0;
+        for (i, pass) in passes.iter().enumerate() {
+            let mut canvas = Canvas::new(w, h);
+            let Ok(rays) = render_pass(&renderer, &mut canvas, pass);
+            let pixels = pass.pixel_count(w, h);
+            if pass.samples < renderer.rays_per_pixel() {
+                // The preview: at most its samples a pixel.
+                assert!(rays <= pixels * pass.samples as u64, "point {point}: preview {rays}");
+                continue;
+            }
+            full += rays;
+            let want = if i == passes.len() - 1 && renderer.filters() {
+                plain
+            } else {
+                (0..h)
+                    .flat_map(|r| (0..w).map(move |c| (c, r)))
+                    .filter(|&(c, r)| pass.computes(c, r))
+                    .map(|(c, r)| renderer.pixel_rays(c, r).1 as u64)
+                    .sum()
+            };
+            assert_eq!(rays, want, "point {point}, pass {pass:?}");
+            if adaptive == "on" {
+                assert!(
+                    rays < pixels * point as u64,
+                    "point {point}: adaptive pixels take fewer than `point`"
+                );
+            } else {
+                assert_eq!(rays, pixels * point as u64, "point {point}: every pixel its samples");
+            }
+        }
+        filtered[renderer.filters() as usize] = true;
+        if !renderer.filters() {
+            assert_eq!(
+                full, plain,
+                "point {point}: each pixel computed once, as the plain render"
+            );
+        } else {
+            assert!(
+                full > plain,
+                "point {point}: the last pass redraws the coarser grids' pixels"
+            );
+        }
+    }
+    assert_eq!(filtered, [true; 2], "frames filtered and not");
 }

@@ -191,6 +191,8 @@ fn prev_power_of_two(n: u32) -> u32 {
 
 /// Draws one pass into `target`: the renderer's image at the top-left corner
 /// of the target's bounding box, as [`crate::render_with`] places it.
+/// Returns the lens rays its pixels cast (with adaptive sampling, what they
+/// took: fewer than the pass's samples a pixel).
 ///
 /// # Errors
 ///
@@ -199,7 +201,7 @@ fn prev_power_of_two(n: u32) -> u32 {
 /// # Panics
 ///
 /// Never.
-pub fn render_pass<S, D>(renderer: &Renderer<'_, S>, target: &mut D, pass: &Pass) -> Result<(), D::Error>
+pub fn render_pass<S, D>(renderer: &Renderer<'_, S>, target: &mut D, pass: &Pass) -> Result<u64, D::Error>
 where
     S: Scalar,
     D: DrawTarget,
@@ -207,15 +209,17 @@ where
 {
     let renderer = pass_renderer(renderer, pass);
     let step = pass.step.max(1);
+    let mut rays = 0;
     for row in (0..renderer.camera().rows()).step_by(step as usize) {
-        draw_band(&renderer, target, pass, row)?;
+        rays += draw_band(&renderer, target, pass, row)?;
     }
-    Ok(())
+    Ok(rays)
 }
 
 /// Draws the blocks of one grid row of a pass: image rows `row .. row + step`.
 /// `row` is a multiple of `pass.step` (other rows draw nothing). Rows may be
-/// drawn in any order, e.g. between other work on a device.
+/// drawn in any order, e.g. between other work on a device. Returns the
+/// lens rays the band's pixels cast.
 ///
 /// # Errors
 ///
@@ -224,7 +228,7 @@ where
 /// # Panics
 ///
 /// Never.
-pub fn render_pass_row<S, D>(renderer: &Renderer<'_, S>, target: &mut D, pass: &Pass, row: u32) -> Result<(), D::Error>
+pub fn render_pass_row<S, D>(renderer: &Renderer<'_, S>, target: &mut D, pass: &Pass, row: u32) -> Result<u64, D::Error>
 where
     S: Scalar,
     D: DrawTarget,
@@ -241,7 +245,7 @@ fn pass_renderer<'a, S: Scalar>(renderer: &Renderer<'a, S>, pass: &Pass) -> Rend
 }
 
 /// The work of [`render_pass_row`], with the pass's sample count already set.
-fn draw_band<S, D>(renderer: &Renderer<'_, S>, target: &mut D, pass: &Pass, row: u32) -> Result<(), D::Error>
+fn draw_band<S, D>(renderer: &Renderer<'_, S>, target: &mut D, pass: &Pass, row: u32) -> Result<u64, D::Error>
 where
     S: Scalar,
     D: DrawTarget,
@@ -251,7 +255,7 @@ where
     let (origin, cols, rows) = addressable_area(renderer, target);
     let step = pass.step.max(1);
     if !row.is_multiple_of(step) || row >= rows {
-        return Ok(());
+        return Ok(0);
     }
     let height = step.min(rows - row);
     let skip_in_row = pass.skip_coarser && row.is_multiple_of(step.saturating_mul(2));
@@ -263,17 +267,22 @@ where
     if step == 1 && (!skip_in_row || renderer.filters()) {
         // Single pixels: stream the row as a plain render does.
         let area = Rectangle::new(at(0), Size::new(cols, 1));
-        return target.fill_contiguous(&area, renderer.scanline(row, cols).map(D::Color::from));
+        let mut pixels = renderer.scanline(row, cols);
+        target.fill_contiguous(&area, (&mut pixels).map(D::Color::from))?;
+        return Ok(pixels.rays() as u64);
     }
+    let mut rays = 0;
     for col in (0..cols).step_by(step as usize) {
         if skip_in_row && col.is_multiple_of(step.saturating_mul(2)) {
             continue;
         }
-        let colour = D::Color::from(renderer.pixel(col, row));
+        let (c, n) = renderer.pixel_rays(col, row);
+        rays += n as u64;
+        let colour = D::Color::from(Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8()));
         let size = Size::new(step.min(cols - col), height);
         target.fill_solid(&Rectangle::new(at(col), size), colour)?;
     }
-    Ok(())
+    Ok(rays)
 }
 
 #[cfg(test)]

@@ -234,8 +234,8 @@ pub extern "C" fn lr_pass_rows(i: u32) -> u32 {
 }
 
 /// Renders grid rows `first .. end` of pass `i` in number type `number` into
-/// its image. Returns the rays cast (with adaptive sampling, the most the
-/// pixels may cast), 0 for an empty range, a bad pass or no scene.
+/// its image. Returns the lens rays its pixels cast (with adaptive sampling,
+/// what they took), 0 for an empty range, a bad pass or no scene.
 #[no_mangle]
 pub extern "C" fn lr_render(number: u32, i: u32, first: u32, end: u32) -> f64 {
     with(|s| {
@@ -267,19 +267,13 @@ pub extern "C" fn lr_render(number: u32, i: u32, first: u32, end: u32) -> f64 {
 }
 
 fn rows<S: Scalar>(renderer: &Renderer<'_, S>, target: &mut RgbaTarget<'_>, pass: &Pass, first: u32, end: u32) -> f64 {
-    let per_pixel = if renderer.camera().is_pinhole() {
-        1
-    } else {
-        pass.samples.min(renderer.rays_per_pixel())
-    };
     let step = pass.step.max(1);
-    let mut pixels = 0u64;
+    let mut rays = 0u64;
     for g in first..end.min(target.height.div_ceil(step)) {
-        let row = g * step;
-        let Ok(()) = progressive::render_pass_row(renderer, target, pass, row);
-        pixels += (0..target.width).filter(|&c| pass.computes(c, row)).count() as u64;
+        let Ok(n) = progressive::render_pass_row(renderer, target, pass, g * step);
+        rays += n;
     }
-    pixels as f64 * per_pixel as f64
+    rays as f64
 }
 
 /// The RGBA image of number type `number` (`width * height * 4` bytes; null
@@ -384,7 +378,8 @@ mod tests {
 
     #[test]
     fn passes_end_in_the_plain_render_of_both_number_types() {
-        let text = program1().replace("point 70", "point 5");
+        // Adaptive off: every pixel casts its samples, so the rays are known.
+        let text = program1().replace("point 70", "point 5") + "adaptive off\n";
         assert_eq!(load(&text), 0);
         let (w, h) = (37, 23);
         let n = lr_setup(w, h, 8, 1);
@@ -428,7 +423,7 @@ mod tests {
     #[test]
     fn each_parse_and_set_up_renders_its_own_scene_and_size() {
         // The renderer is kept from set-up to set-up: a new scene or size must not see the old one.
-        let text = program1().replace("point 70", "point 3");
+        let text = program1().replace("point 70", "point 3") + "adaptive off\n";
         let (w, h) = (24, 18);
         assert_eq!(load(&text.replace("radius", "# radius")), 0);
         lr_setup(w, h, 1, 0);
@@ -466,6 +461,20 @@ mod tests {
             );
             assert_eq!(lr_depth_at(NUMBER_FLOAT, col, row), want.1);
         }
+    }
+
+    #[test]
+    fn adaptive_rays_are_what_the_pixels_took() {
+        let text = program1().replace("point 70", "point 40");
+        assert_eq!(load(&text), 0);
+        let (w, h) = (40, 30);
+        assert_eq!(lr_setup(w, h, 1, 0), 1, "one pass of single pixels");
+        let scene = Scene::<I16F16>::parse(&text).unwrap();
+        let r = Renderer::new(&scene, w, h);
+        let mut row = vec![Rgb888::BLACK; w as usize];
+        let plain: u32 = (0..h).map(|y| r.render_row(y, &mut row)).sum();
+        assert_eq!(lr_render(NUMBER_FIXED, 0, 0, h), plain as f64);
+        assert!(plain < w * h * 40, "{plain} rays: fewer than `point` a pixel");
     }
 
     #[test]
