@@ -12,7 +12,8 @@ use lensray_testkit::Band;
 
 /// Renders `scene` pass by pass as a display would show it, calling
 /// `on_pass(index, pass, picture so far)` after each, and returns the final
-/// image: the same pixels as [`crate::render_image`] with the same samples.
+/// image, the same pixels as [`crate::render_image`] with the same samples,
+/// and the lens rays the passes and the adaptive survey cast.
 ///
 /// `first_step` and `preview_samples` are [`Schedule::new`]'s; the display
 /// starts black. Each pass draws its grid rows in parallel, each into its own
@@ -25,12 +26,13 @@ pub fn render_passes<S: Scalar + Send + Sync>(
     first_step: u32,
     preview_samples: u32,
     on_pass: &mut dyn FnMut(usize, &Pass, &Image),
-) -> Image {
+) -> (Image, u64) {
     let renderer = Renderer::new_with_samples(scene, width, height, samples);
     let mut img = Image::filled(width, height, Rgb888::BLACK);
+    let mut rays = renderer.adaptive_cap().1 as u64;
     for (i, pass) in Schedule::new(first_step, preview_samples, renderer.rays_per_pixel()).enumerate() {
         let step = pass.step.max(1);
-        let bands: Vec<Band> = (0..height)
+        let bands: Vec<(Band, u64)> = (0..height)
             .step_by(step as usize)
             .collect::<Vec<_>>()
             .into_par_iter()
@@ -47,15 +49,16 @@ pub fn render_passes<S: Scalar + Send + Sync>(
                     full_height: height,
                 };
                 // Infallible: an Image never fails to draw.
-                let _ = render_pass_row(&renderer, &mut band, &pass, y0);
-                band
+                let n = render_pass_row(&renderer, &mut band, &pass, y0).unwrap_or(0);
+                (band, n)
             })
             .collect();
-        for b in bands {
+        for (b, n) in bands {
+            rays += n;
             let start = (b.y0 * width) as usize;
             img.pixels[start..start + b.band.pixels.len()].copy_from_slice(&b.band.pixels);
         }
         on_pass(i, &pass, &img);
     }
-    img
+    (img, rays)
 }

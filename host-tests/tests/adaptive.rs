@@ -258,7 +258,7 @@ fn progressive_passes_end_on_the_plain_render_with_lamps_parts() {
     let (w, h) = (64, 48);
     assert!(Renderer::new(&scene, w, h).lamp_parts());
     let plain = lensray_host::render_image(&scene, w, h, None, &|| {});
-    let last = lensray_host::passes::render_passes(&scene, w, h, None, 8, 1, &mut |_, _, _| {});
+    let (last, _) = lensray_host::passes::render_passes(&scene, w, h, None, 8, 1, &mut |_, _, _| {});
     assert_eq!(last, plain);
 }
 
@@ -737,6 +737,33 @@ fn the_render_flag_overrides_the_scene() {
     let on_out = String::from_utf8_lossy(&run("on", "on.bmp").stdout).into_owned();
     let rays: f64 = on_out.trim().strip_prefix("rays per pixel: ").unwrap().parse().unwrap();
     assert!((adaptive_pilot(24) as f64..24.0).contains(&rays), "{on_out}");
+}
+
+/// `render --passes` prints its rays too: the plain render's and more (the
+/// preview, and the last pass's redraw of the coarser grids' filtered rows).
+#[test]
+fn render_with_passes_prints_the_rays_its_passes_cast() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("adaptive-passes-cli");
+    std::fs::create_dir_all(&dir).unwrap();
+    let rays = |extra: &[&str]| -> f64 {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_lensray"))
+            .arg("render")
+            .arg(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/paper-program1.scene"))
+            .args(["--width", "64", "--samples", "24", "-o"])
+            .arg(dir.join("out.png"))
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        text.trim().strip_prefix("rays per pixel: ").unwrap().parse().unwrap()
+    };
+    let plain = rays(&[]);
+    let passes_dir = dir.join("passes");
+    let passes = rays(&["--passes", passes_dir.to_str().unwrap()]);
+    assert!(plain < 24.0, "adaptive: {plain}");
+    // The redraw is a quarter of the pixels again (their rays, about a quarter of the plain render's).
+    assert!(passes > plain && passes < 1.5 * plain, "{passes} against {plain}");
 }
 
 #[test]

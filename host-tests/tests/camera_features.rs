@@ -229,7 +229,7 @@ fn progressive_passes_refine_in_place_to_the_plain_render() {
         pixels: (0..w * h).map(|i| one.pixel(i % w, i / w)).collect(),
     };
     let mut shown = Vec::new();
-    let last = render_passes(&scene, w, h, Some(samples), 8, 1, &mut |_, pass, img| {
+    let (last, _) = render_passes(&scene, w, h, Some(samples), 8, 1, &mut |_, pass, img| {
         shown.push((*pass, img.clone()))
     });
     assert_eq!(last, plain, "the last pass is the plain render, pixel for pixel");

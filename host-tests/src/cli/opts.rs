@@ -154,7 +154,7 @@ pub(crate) fn render_passes_to<S: Scalar + Send + Sync>(
     samples: Option<u32>,
     o: &Passes,
     dir: &std::path::Path,
-) -> Result<Image, Fail> {
+) -> Result<(Image, u64), Fail> {
     std::fs::create_dir_all(dir).map_err(|e| Fail(format!("{}: cannot create: {e}", dir.display())))?;
     let mut failed: Option<Fail> = None;
     let mut save = |i: usize, pass: &lensray::progressive::Pass, img: &Image| {
@@ -179,9 +179,9 @@ pub(crate) fn render_passes_to<S: Scalar + Send + Sync>(
             Err(e) => failed = Some(e),
         }
     };
-    let img = lensray_host::passes::render_passes(scene, w, h, samples, o.first_step, o.preview_samples, &mut save);
+    let out = lensray_host::passes::render_passes(scene, w, h, samples, o.first_step, o.preview_samples, &mut save);
     match failed {
         Some(e) => Err(e),
-        None => Ok(img),
+        None => Ok(out),
     }
 }

@@ -58,17 +58,16 @@ pub(crate) fn run(o: RenderArgs) -> Result<(), Fail> {
         return Err(Fail(format!("{}: is a directory", out.display())));
     }
     check_writable(&out)?;
-    // Rays are counted by the plain render; progressive passes cast the same.
+    // Rays: what the pixels and the survey cast (with --passes, every pass's: the preview and the redrawn rows too).
     let (img, kind, rays) = if o.float {
         let mut scene = load_scene::<f32>(scene_path)?;
         apply_to_scene(&o.sampling, &mut scene);
         let (w, h) = image_size(&o.size, DEFAULT_WIDTH, scene.camera.aspect_ratio)?;
         match &o.passes.passes {
-            Some(dir) => (
-                render_passes_to(&scene, w, h, o.size.samples, &o.passes, dir)?,
-                f32::NAME,
-                None,
-            ),
+            Some(dir) => {
+                let (img, rays) = render_passes_to(&scene, w, h, o.size.samples, &o.passes, dir)?;
+                (img, f32::NAME, Some(rays))
+            }
             None => {
                 let (img, rays) = render_with_progress(&scene, w, h, o.size.samples);
                 (img, f32::NAME, Some(rays))
@@ -79,11 +78,10 @@ pub(crate) fn run(o: RenderArgs) -> Result<(), Fail> {
         apply_to_scene(&o.sampling, &mut scene);
         let (w, h) = image_size(&o.size, DEFAULT_WIDTH, scene.camera.aspect_ratio)?;
         match &o.passes.passes {
-            Some(dir) => (
-                render_passes_to(&scene, w, h, o.size.samples, &o.passes, dir)?,
-                I16F16::NAME,
-                None,
-            ),
+            Some(dir) => {
+                let (img, rays) = render_passes_to(&scene, w, h, o.size.samples, &o.passes, dir)?;
+                (img, I16F16::NAME, Some(rays))
+            }
             None => {
                 let (img, rays) = render_with_progress(&scene, w, h, o.size.samples);
                 (img, I16F16::NAME, Some(rays))
