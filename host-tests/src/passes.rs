@@ -48,8 +48,7 @@ pub fn render_passes<S: Scalar + Send + Sync>(
                     y0,
                     full_height: height,
                 };
-                // Infallible: an Image never fails to draw.
-                let n = render_pass_row(&renderer, &mut band, &pass, y0).unwrap_or(0);
+                let Ok(n) = render_pass_row(&renderer, &mut band, &pass, y0);
                 (band, n)
             })
             .collect();

@@ -1968,8 +1968,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     ///
     /// Never, as [`Renderer::pixel_colour`].
     pub fn pixel(&self, col: u32, row: u32) -> Rgb888 {
-        let c = self.pixel_colour(col, row);
-        Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8())
+        rgb(self.pixel_colour(col, row))
     }
 
     /// Pixel (`col`, `row`) in 256ths of a level a channel, as rows carry it
@@ -1995,6 +1994,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         }
         pixels.rays()
     }
+}
+
+/// A mean colour as 8-bit RGB, each channel clamped and rounded ([`Renderer::pixel`]'s).
+#[inline]
+pub(crate) fn rgb<S: Scalar>(c: Vec3<S>) -> Rgb888 {
+    Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8())
 }
 
 /// Renders `scene` into `target`, one `fill_contiguous` call per row.

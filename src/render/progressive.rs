@@ -66,7 +66,7 @@
 //! ```
 
 use crate::number::Scalar;
-use crate::render::{addressable_area, Renderer};
+use crate::render::{addressable_area, rgb, Renderer};
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Point, Size};
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -278,7 +278,7 @@ where
         }
         let (c, n) = renderer.pixel_rays(col, row);
         rays += n as u64;
-        let colour = D::Color::from(Rgb888::new(c.x.to_u8(), c.y.to_u8(), c.z.to_u8()));
+        let colour = D::Color::from(rgb(c));
         let size = Size::new(step.min(cols - col), height);
         target.fill_solid(&Rectangle::new(at(col), size), colour)?;
     }

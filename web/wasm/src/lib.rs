@@ -72,12 +72,12 @@ impl<S: Scalar + 'static> Loaded<S> {
     }
 
     /// Builds the renderer for a `width` × `height` image.
-    fn set_size(&mut self, width: u32, height: u32) {
+    fn set_size(&mut self, width: u32, height: u32) -> &Renderer<'_, S> {
         self.renderer = None;
         // SAFETY: the renderer never outlives the scene: `Drop` clears it
         // first, and it is only lent out for as long as `self` is borrowed.
         let scene: &'static Scene<S> = unsafe { self.scene.as_ref() };
-        self.renderer = Some(Renderer::new(scene, width, height));
+        self.renderer.insert(Renderer::new(scene, width, height))
     }
 
     fn renderer(&self) -> Option<&Renderer<'_, S>> {
@@ -204,12 +204,9 @@ pub extern "C" fn lr_setup(width: u32, height: u32, first_step: u32, preview_sam
         let (Some(fixed), Some(float)) = (s.fixed.as_mut(), s.float.as_mut()) else {
             return 0;
         };
-        fixed.set_size(w, h);
         float.set_size(w, h);
         // Both number types cast the same rays a pixel.
-        let Some(rays) = fixed.renderer().map(Renderer::rays_per_pixel) else {
-            return 0;
-        };
+        let rays = fixed.set_size(w, h).rays_per_pixel();
         s.passes.extend(Schedule::new(first_step, preview_samples, rays));
         s.passes.len() as u32
     })
