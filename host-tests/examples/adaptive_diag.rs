@@ -1,5 +1,6 @@
 //! Where an adaptive render's error is: squared error against the converged
-//! reference by the rays each pixel cast, and its mean signed error
+//! reference by the rays each pixel cast, and its mean signed error beside
+//! that of `point` independent samples
 //! (diagnosis; `adaptive_diag SCENE WIDTH`).
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use lensray::unstable::sampler::Sampler;
@@ -21,7 +22,7 @@ fn main() {
     ind_scene.camera.sampler = Sampler::Independent;
     ind_scene.camera.adaptive = false;
     let ri = Renderer::new(&ind_scene, w, h);
-    let mut by: std::collections::BTreeMap<u32, (u32, f64, f64, f64)> = Default::default();
+    let mut by: std::collections::BTreeMap<u32, (u32, f64, f64, f64, f64)> = Default::default();
     for y in 0..h {
         for x in 0..w {
             let n = r.pixel_rays(x, y).1;
@@ -37,10 +38,15 @@ fn main() {
             s.1 += e(c);
             s.2 += e(ci);
             s.3 += (c.r() as f64 - t[0] as f64) + (c.g() as f64 - t[1] as f64) + (c.b() as f64 - t[2] as f64);
+            s.4 += (ci.r() as f64 - t[0] as f64) + (ci.g() as f64 - t[1] as f64) + (ci.b() as f64 - t[2] as f64);
         }
     }
-    println!("point {point}: rays -> pixels, default sq err, independent sq err, default mean signed error a channel");
-    for (n, (k, d, i, b)) in by {
-        println!("{n:4}: {k:6} {d:12.0} {i:12.0} {:+8.2}", b / (3.0 * k as f64));
+    println!("point {point}: rays -> pixels, default sq err, independent sq err, mean signed error a channel (default, independent)");
+    for (n, (k, d, i, b, bi)) in by {
+        println!(
+            "{n:4}: {k:6} {d:12.0} {i:12.0} {:+8.2} {:+8.2}",
+            b / (3.0 * k as f64),
+            bi / (3.0 * k as f64)
+        );
     }
 }
