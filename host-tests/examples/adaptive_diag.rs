@@ -33,12 +33,14 @@ fn main() {
                 let v = [c.r(), c.g(), c.b()].map(|q| q as f64);
                 (v[0] - t[0] as f64).powi(2) + (v[1] - t[1] as f64).powi(2) + (v[2] - t[2] as f64).powi(2)
             };
+            let signed =
+                |c: Rgb888| (c.r() as f64 - t[0] as f64) + (c.g() as f64 - t[1] as f64) + (c.b() as f64 - t[2] as f64);
             let s = by.entry(n).or_default();
             s.0 += 1;
             s.1 += e(c);
             s.2 += e(ci);
-            s.3 += (c.r() as f64 - t[0] as f64) + (c.g() as f64 - t[1] as f64) + (c.b() as f64 - t[2] as f64);
-            s.4 += (ci.r() as f64 - t[0] as f64) + (ci.g() as f64 - t[1] as f64) + (ci.b() as f64 - t[2] as f64);
+            s.3 += signed(c);
+            s.4 += signed(ci);
         }
     }
     println!("point {point}: rays -> pixels, default sq err, independent sq err, mean signed error a channel (default, independent)");
