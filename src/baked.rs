@@ -125,6 +125,7 @@ fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
         // Host-side switches (on when loaded), not part of the bake.
         exact_retake: _,
         terminator_filter: _,
+        rim_pull: _,
     } = s;
     ambient.put(w);
     background.put(w);
@@ -319,6 +320,7 @@ impl<S: BakeScalar> Baked<S> {
             lights,
             exact_retake: _,
             terminator_filter: _,
+            rim_pull: _,
         } = &mut self.scene;
         ambient.take(r);
         background.take(r);

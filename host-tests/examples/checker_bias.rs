@@ -33,9 +33,10 @@ fn main() {
             let film = cam.film_point(x, y);
             let mut lens = PixelSamples::new(Sampler::Stratified, x, y);
             for _ in 0..n {
+                let p_lens = lens.next(cam.aperture());
                 let ray = cam.generate_ray(&CameraSample {
                     film: &film,
-                    lens: Some(lens.next(cam.aperture())),
+                    lens: Some(p_lens),
                 });
                 let Some((i, hit)) = scene.closest_hit_camera_ray(&ray, &cones) else {
                     continue;
@@ -45,9 +46,10 @@ fn main() {
                     continue;
                 }
                 let nrm = o.normal(&hit, ray.dir);
-                let wdt = defocus.width(ray.dir, hit.t, stratum);
+                let wdt = defocus.width(ray.dir, hit.t, stratum.radius);
+                let shift = defocus.shift(ray.dir, hit.t, cam.lens_offset(p_lens, stratum.pull));
                 let point = if o.in_dark_square(&hit) { 0.25 } else { 1.0 };
-                let f = o.checker_filtered(&hit, ray.dir, nrm, wdt);
+                let f = o.checker_filtered(&hit, ray.dir, nrm, wdt, shift);
                 let fv = f.map_or(point, |v| v.to_f64());
                 sf += fv;
                 sp += point;

@@ -50,7 +50,7 @@ fn main() {
         "lens radius {} footprint radius {} stratum({strata}) {}",
         scene.camera.radius,
         defocus.radius().to_f64(),
-        stratum.to_f64()
+        stratum.radius.to_f64()
     );
     for (i, o) in scene.objects().iter().enumerate() {
         println!("object {i} {:?} texture {}", o.shape, o.texture.to_f64());
@@ -87,11 +87,13 @@ fn main() {
             let (mut tex, mut filt, mut cells) = (0u32, 0u32, 0f64);
             let mut pg = std::collections::BTreeMap::<usize, Sums>::new();
             for _ in 0..n {
+                let p_lens = lens.next(cam.aperture());
                 let ray = cam.generate_ray(&CameraSample {
                     film: &film,
-                    lens: Some(lens.next(cam.aperture())),
+                    lens: Some(p_lens),
                 });
-                let (c, t) = scene.trace_lens_ray(&ray, &cones, Some((&defocus, stratum)));
+                let pull = cam.lens_offset(p_lens, stratum.pull);
+                let (c, t) = scene.trace_lens_ray(&ray, &cones, Some((&defocus, stratum.radius, pull)));
                 let (cu, _) = scene.trace_lens_ray(&ray, &cones, None);
                 let (c, cu) = (lv(c), lv(cu));
                 for k in 0..3 {
@@ -109,7 +111,8 @@ fn main() {
                     if o.texture != I16F16::ZERO {
                         tex += 1;
                         let (_, hit) = scene.closest_hit_camera_ray(&ray, &cones).unwrap();
-                        let wdt = defocus.width(ray.dir, hit.t, stratum);
+                        let wdt = defocus.width(ray.dir, hit.t, stratum.radius);
+                        let shift = defocus.shift(ray.dir, hit.t, pull);
                         let nrm = o.normal(&hit, ray.dir);
                         let ln = hit.local.n.to_f64();
                         let cap = (ln[0] == 0.0 && ln[2] == 0.0) as usize;
@@ -117,7 +120,7 @@ fn main() {
                         capside[cap][0] += 1.0;
                         capside[cap][1] += c[0];
                         capside[cap][2] += c[0] * c[0];
-                        let f = o.checker_filtered(&hit, ray.dir, nrm, wdt);
+                        let f = o.checker_filtered(&hit, ray.dir, nrm, wdt, shift);
                         let wc = wdt.to_f64() / o.texture.to_f64();
                         cells += wc;
                         hist_cells[((wc * 4.0) as usize).min(7)] += 1;

@@ -41,9 +41,10 @@ pub fn render_image<S: Scalar + Send + Sync>(
 /// [`render_image`] before the scanline filter, every pixel as
 /// [`Renderer::pixel`] has it, without fixes 16 to 18's exact retakes
 /// (`Scene::set_exact_retakes(false)`) and without the terminator filter
-/// (`Scene::set_terminator_filter(false)`): what the micro:bit's build
-/// (features `no-scanline-filter`, `no-spare-floor`, `no-exact-retakes` and
-/// `no-terminator-filter`)
+/// (`Scene::set_terminator_filter(false)`) and without the rim pull
+/// (`Scene::set_rim_pull(false)`): what the micro:bit's build
+/// (features `no-scanline-filter`, `no-spare-floor`, `no-exact-retakes`,
+/// `no-terminator-filter` and `no-rim-pull`)
 /// draws of a frame without a survey (`point` under 10, or too small), such
 /// as its tests' frames.
 pub fn render_image_as_microbit<S: Scalar + Send + Sync>(
@@ -55,6 +56,7 @@ pub fn render_image_as_microbit<S: Scalar + Send + Sync>(
     let mut scene = scene.clone();
     scene.set_exact_retakes(false);
     scene.set_terminator_filter(false);
+    scene.set_rim_pull(false);
     // No gaps: the micro:bit has no filter and takes no gap survey.
     let renderer = Renderer::new_with_samples(&scene, width, height, samples).without_gaps();
     let mut pixels = vec![Rgb888::BLACK; width as usize * height as usize];

@@ -304,6 +304,15 @@ impl<S: Scalar> Camera<S> {
         }
     }
 
+    /// `share` of the lens point `lens`'s offset from the lens centre
+    /// (`s_x a u + s_y a v`, world space): where a footprint's centre is
+    /// pulled from (see [`crate::render::defocus::Stratum::pull`]).
+    #[inline]
+    pub fn lens_offset(&self, lens: (i32, i32), share: S) -> Vec3<S> {
+        let (sx, sy) = (S::from_q15(lens.0).mul(share), S::from_q15(lens.1).mul(share));
+        self.lens_u * sx + self.lens_v * sy
+    }
+
     /// The ray from the lens point `lens = (s_x, s_y)` (Q1.15, on the unit disk)
     /// towards the pixel's point in focus.
     #[inline]

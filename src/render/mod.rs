@@ -1554,6 +1554,24 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             }))
     }
 
+    /// What a lens ray through `p_lens` carries for its footprint's pull
+    /// (share `share` of its offset: [`defocus::Stratum::pull`]): nothing
+    /// with the scene's rim pull off, or on the micro:bit (`no-rim-pull`).
+    #[inline(always)]
+    fn pull(&self, p_lens: (i32, i32), share: S) -> defocus::Pull<S> {
+        #[cfg(not(feature = "no-rim-pull"))]
+        return if self.scene.rim_pulled() {
+            self.camera.lens_offset(p_lens, share)
+        } else {
+            Vec3::ZERO
+        };
+        #[cfg(feature = "no-rim-pull")]
+        {
+            let _ = (p_lens, share);
+            core::marker::PhantomData
+        }
+    }
+
     /// Whether rows are filtered where far out of focus (see [`scanline`]):
     /// a lens camera with stratified, adaptive sampling of at least
     /// [`scanline::FILTER_MIN_POINT`] samples; never with `sampler independent` or
@@ -1749,7 +1767,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             });
             // One call site for both samplers: two inlined copies of the trace
             // took 4 KiB more stack on the Cortex-M0.
-            let footprint = stratified.then_some((&self.defocus, stratum));
+            let footprint = stratified.then(|| (&self.defocus, stratum.radius, self.pull(p_lens, stratum.pull)));
             let (c, t) = self.scene.trace_lens_ray(&ray, &self.cones, footprint);
             if gaps {
                 textured |= t.is_some_and(|(i, _)| self.scene.objects.get(i).is_some_and(|o| o.texture != S::ZERO));

@@ -6,7 +6,7 @@ use crate::geometry::ray::Ray;
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
 use crate::render::cull::LensCones;
-use crate::render::defocus::Defocus;
+use crate::render::defocus::{Defocus, Pull};
 use crate::scene::shape::Shape;
 #[cfg(not(feature = "no-exact-retakes"))]
 use crate::scene::ShadowStart;
@@ -196,15 +196,16 @@ impl<S: Scalar> Scene<S> {
     }
 
     /// As [`Scene::trace_camera_ray`], for a ray standing for a stratum of
-    /// the lens where `footprint` is given (the camera's defocus and the
-    /// stratum's radius from [`Defocus::stratum`]): a checker it meets is
-    /// averaged over the stratum's footprint there (see [`Defocus`]). Also
+    /// the lens where `footprint` is given (the camera's defocus, the
+    /// stratum's radius from [`Defocus::stratum`] and the ray's pull, from
+    /// `Camera::lens_offset`): a checker it meets is averaged over the
+    /// stratum's footprint there, its centre pulled in (see [`Defocus`]). Also
     /// the object hit and its distance, `None` for a miss (the scanline filter's gate).
     pub fn trace_lens_ray(
         &self,
         ray: &Ray<S>,
         cones: &LensCones<S>,
-        footprint: Option<(&Defocus<S>, S)>,
+        footprint: Option<(&Defocus<S>, S, Pull<S>)>,
     ) -> (Vec3<S>, Option<(usize, S)>) {
         self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones), footprint)
     }
@@ -215,7 +216,7 @@ impl<S: Scalar> Scene<S> {
         d: Vec3<S>,
         precise: S::Dir,
         cones: Option<&LensCones<S>>,
-        footprint: Option<(&Defocus<S>, S)>,
+        footprint: Option<(&Defocus<S>, S, Pull<S>)>,
     ) -> (Vec3<S>, Option<(usize, S)>) {
         let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::HIT_EPSILON, cones) else {
             return (self.background, None);
@@ -266,8 +267,9 @@ impl<S: Scalar> Scene<S> {
         let v = -d;
         let m = &obj.material;
         let filtered = match footprint {
-            Some((defocus, stratum)) if obj.texture > S::ZERO && stratum > S::ZERO => {
-                obj.checker_filtered(&hit, d, n, defocus.width(d, hit.t, stratum))
+            Some((defocus, stratum, pull)) if obj.texture > S::ZERO && stratum > S::ZERO => {
+                let shift = defocus.shift(d, hit.t, pull);
+                obj.checker_filtered(&hit, d, n, defocus.width(d, hit.t, stratum), shift)
             }
             _ => None,
         };
@@ -278,7 +280,7 @@ impl<S: Scalar> Scene<S> {
         // filter off (always with the feature `no-terminator-filter`: then
         // the lights' loop is the sharp step's).
         let turn = match footprint {
-            Some((defocus, stratum)) if stratum > S::ZERO && self.terminator_filtered() => {
+            Some((defocus, stratum, _)) if stratum > S::ZERO && self.terminator_filtered() => {
                 obj.curved_at(&hit, n_len).map(|inv_len| {
                     let n_dot_d = n.dot_inline(d);
                     let slant = S::ONE.div(n_dot_d.min(S::from_q15(-2048)));

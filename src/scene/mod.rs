@@ -719,11 +719,11 @@ impl<S: Scalar> Object<S> {
     /// the box's width.
     // Out of line: inlined into the trace it cost 4 KiB of Cortex-M0 flash.
     #[inline(never)]
-    pub fn checker_filtered(&self, hit: &Hit<S>, d: Vec3<S>, n_world: Vec3<S>, w: S) -> Option<S> {
+    pub fn checker_filtered(&self, hit: &Hit<S>, d: Vec3<S>, n_world: Vec3<S>, w: S, shift: Vec3<S>) -> Option<S> {
         if self.inv_texture == S::ZERO || w <= S::ZERO {
             return None;
         }
-        let (n, p) = (hit.local.n.to_array(), hit.local.p.to_array());
+        let n = hit.local.n.to_array();
         // Object coordinate k of a world offset y is B_k·y (B_k row k of
         // world → object). Projected along d onto the tangent plane, y moves
         // by −d (n_w·y)/(n_w·d): coordinate k then reads c_k·y with
@@ -734,10 +734,27 @@ impl<S: Scalar> Object<S> {
         // n_w faces the ray (n_w·d < 0): the footprint's 1/cos, held to 16.
         let slant = S::ONE.div(d.dot(n_world).neg().max(S::from_q15(2048)));
         let w_cells = w.div(self.texture);
+        // The footprint's centre moved by `shift` across the ray: by c_k·shift
+        // along axis k, c_k·y = B_k·y + (B_k·d) (n_w·y)/(−n_w·d).
+        // (Compiled out on the micro:bit, feature `no-rim-pull`: its flash.)
+        let pulled = !cfg!(feature = "no-rim-pull");
+        let (along, cross) = if pulled {
+            (self.to_object.vector(shift).to_array(), n_world.dot(shift).mul(slant))
+        } else {
+            ([S::ZERO; 3], S::ZERO)
+        };
+        let p = hit.local.p.to_array();
         let mut product = S::ONE;
         let mut blurred = false;
         for k in 0..3 {
-            let (cell, frac) = S::checker_pos(p[k], self.texture, self.inv_texture);
+            let (mut cell, mut frac) = S::checker_pos(p[k], self.texture, self.inv_texture);
+            // (A flat face's own axis stays: the face may lie on a border.)
+            if pulled && n[k].abs() != S::ONE {
+                let moved = S::checker_pos(p[k].add(along[k]).add(v[k].mul(cross)), self.texture, self.inv_texture);
+                // Moved into another square: the hit's own no longer decides.
+                blurred |= moved.0 != cell;
+                (cell, frac) = moved;
+            }
             let (mean, b) = axis_mean(self, k, frac, n[k], v[k].mul(slant), n_world, w_cells);
             blurred |= b;
             product = if cell & 1 == 1 {
@@ -878,6 +895,9 @@ pub struct Scene<S: Scalar> {
     /// light's terminator over its footprint (see
     /// [`Scene::set_terminator_filter`]). Not baked, not parsed.
     pub(crate) terminator_filter: bool,
+    /// Whether a stratified lens ray's checker footprint is pulled toward
+    /// the lens centre (see [`Scene::set_rim_pull`]). Not baked, not parsed.
+    pub(crate) rim_pull: bool,
 }
 
 impl<S: Scalar> Scene<S> {
@@ -937,6 +957,25 @@ impl<S: Scalar> Scene<S> {
     pub(crate) fn terminator_filtered(&self) -> bool {
         !cfg!(feature = "no-terminator-filter") && self.terminator_filter
     }
+
+    /// Whether a stratified lens ray's checker footprint has its centre
+    /// pulled toward the lens centre by [`crate::render::defocus::Stratum::pull`]
+    /// of its lens offset, which keeps a blurred checker's mean. On by
+    /// default; off, it is centred on the ray's own hit, as a build with the
+    /// feature `no-rim-pull` (the micro:bit's) always has it. For the host to
+    /// render as the micro:bit does (its firmware test).
+    #[doc(hidden)]
+    pub fn set_rim_pull(&mut self, on: bool) {
+        self.rim_pull = on;
+    }
+
+    /// Whether footprints are pulled: the switch, and never with the
+    /// feature `no-rim-pull`.
+    #[inline(always)]
+    #[cfg_attr(feature = "no-rim-pull", allow(dead_code))]
+    pub(crate) fn rim_pulled(&self) -> bool {
+        !cfg!(feature = "no-rim-pull") && self.rim_pull
+    }
 }
 
 impl<S: Scalar> Default for Scene<S> {
@@ -950,6 +989,7 @@ impl<S: Scalar> Default for Scene<S> {
             objects: heapless::Vec::new(),
             exact_retake: true,
             terminator_filter: true,
+            rim_pull: true,
             lights: heapless::Vec::new(),
         }
     }
