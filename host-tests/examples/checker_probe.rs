@@ -93,7 +93,12 @@ fn main() {
                     lens: Some(p_lens),
                 });
                 let pull = cam.lens_offset(p_lens, stratum.pull);
-                let (c, t) = scene.trace_lens_ray(&ray, &cones, Some((&defocus, stratum.radius, pull)));
+                let carried = lensray::unstable::defocus::Pull {
+                    camera: &cam,
+                    p_lens,
+                    share: stratum.pull,
+                };
+                let (c, t) = scene.trace_lens_ray(&ray, &cones, Some((&defocus, stratum.radius, carried)));
                 let (cu, _) = scene.trace_lens_ray(&ray, &cones, None);
                 let (c, cu) = (lv(c), lv(cu));
                 for k in 0..3 {

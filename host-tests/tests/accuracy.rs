@@ -142,7 +142,7 @@ fn shade(p: V, n: V, d: V, ka: V, kd: V, ks: V, shine: f64) -> V {
 
 /// The colour along a ray of Program 1, for rays that can only meet the gold
 /// sphere and the floor (the caller picks such pixels), or nothing.
-fn trace_sphere_and_floor(o: V, d: V, stratum: f64) -> V {
+fn trace_sphere_and_floor(o: V, d: V, stratum: f64, pull: V) -> V {
     // Gold sphere: centre (0, -1, -8), radius 1.
     let c = [0.0, -1.0, -8.0];
     let oc = sub(c, o);
@@ -171,9 +171,15 @@ fn trace_sphere_and_floor(o: V, d: V, stratum: f64) -> V {
         }
         (_, Some(tf)) => {
             let p = sub(o, scale(d, -tf));
+            // The footprint's centre, pulled in: the hit of the ray from the
+            // lens point moved by -`pull`, δ (1 - z/z_f) across the ray at
+            // depth z, carried along the ray onto the floor.
+            let across = scale(pull, tf * -d[2] / 8.0 - 1.0);
+            let onto = sub(across, scale(d, dot(normal, across) / dot(normal, d)));
+            let centre = [p[0] + onto[0], p[1] + onto[1], p[2] + onto[2]];
             // Object space: undo the translation, then the rotation (x' = x,
             // y' = c y + s z, z' = -s y + c z for the inverse of -80 degrees).
-            let q = sub(p, [0.0, -3.0, 0.0]);
+            let q = sub(centre, [0.0, -3.0, 0.0]);
             let (x, y) = (q[0], co * q[1] + s * q[2]);
             let dark = ((x / 0.5).floor() + (y / 0.5).floor()) as i64 & 1 == 1;
             let k = floor_checker(
@@ -237,8 +243,11 @@ fn program1_pixel(col: u32, row: u32, rays: u32) -> [f64; 3] {
         let (sx, sy) = lens.next(&Aperture::ROUND);
         let lens = [a * sx as f64 / 32768.0, a * sy as f64 / 32768.0, 0.0];
         // The pilot's 16 strata, then 32 (the adaptive render's checks).
-        let stratum = a / if k < 16 { 16f64 } else { 32f64 }.sqrt();
-        let c = trace_sphere_and_floor(lens, unit(sub(focus, lens)), stratum);
+        let strata = if k < 16 { 16f64 } else { 32f64 };
+        let stratum = a / strata.sqrt();
+        // Its box's centre pulled in by 1 - √(1 - 4/(3P)) of its offset.
+        let pull = scale(lens, 1.0 - (1.0 - 4.0 / (3.0 * strata)).sqrt());
+        let c = trace_sphere_and_floor(lens, unit(sub(focus, lens)), stratum, pull);
         for k in 0..3 {
             sum[k] += c[k];
         }

@@ -12,6 +12,8 @@
 //! (up to a blur of that size, which vanishes as P grows, and is zero in focus
 //! and for a pinhole) and loses the noise of squares flipping across the lens.
 
+#[cfg(not(feature = "no-rim-pull"))]
+use crate::camera::Camera;
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
 use crate::scene::Scene;
@@ -30,14 +32,23 @@ pub const FOOTPRINT_GAIN: f64 = 1.0;
 /// stratum (4/3 > 1) the centre is the lens centre's.
 const PULL_Q15: [u16; 12] = [32768, 13849, 6013, 2855, 1395, 690, 343, 171, 85, 43, 21, 11];
 
-/// What a lens ray carries to its trace for its footprint's pull: its lens
-/// offset times [`Stratum::pull`] (`Camera::lens_offset`), world units;
-/// nothing on the micro:bit (feature `no-rim-pull`: its code as before).
+/// What a lens ray carries to its trace for its footprint's pull: the
+/// camera, its lens point and the share of its offset ([`Stratum::pull`]),
+/// so that the offset is made only for a ray that meets a checker; nothing
+/// on the micro:bit (feature `no-rim-pull`: its code as before).
 #[cfg(not(feature = "no-rim-pull"))]
-pub type Pull<S> = Vec3<S>;
+#[derive(Copy, Clone, Debug)]
+pub struct Pull<'a, S: Scalar> {
+    /// The camera whose lens the point is on.
+    pub camera: &'a Camera<S>,
+    /// The lens point, Q1.15 on the unit disk.
+    pub p_lens: (i32, i32),
+    /// The share of its offset from the lens centre; 0 with the pull off.
+    pub share: S,
+}
 /// See above.
 #[cfg(feature = "no-rim-pull")]
-pub type Pull<S> = core::marker::PhantomData<S>;
+pub type Pull<'a, S> = core::marker::PhantomData<&'a S>;
 
 /// A stratum's share of the lens, for its ray's footprint: from [`Defocus::stratum`].
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -131,9 +142,16 @@ impl<S: Scalar> Defocus<S> {
     /// rays through the point in focus that leave the lens δ apart are δ (1
     /// − z/z_f) apart at depth z, and the pulled point is −`pull` away.
     #[inline]
-    pub fn shift(&self, d: Vec3<S>, t: S, pull: Pull<S>) -> Vec3<S> {
+    pub fn shift(&self, d: Vec3<S>, t: S, pull: Vec3<S>) -> Vec3<S> {
+        pull.scale(self.depth_ratio(d, t).sub(S::ONE))
+    }
+
+    /// [`Defocus::shift`] of the ray `pull` describes (its offset made
+    /// here, for a ray that met a checker); 0 on the micro:bit.
+    #[inline]
+    pub(crate) fn shift_of(&self, d: Vec3<S>, t: S, pull: Pull<'_, S>) -> Vec3<S> {
         #[cfg(not(feature = "no-rim-pull"))]
-        return pull.scale(self.depth_ratio(d, t).sub(S::ONE));
+        return self.shift(d, t, pull.camera.lens_offset(pull.p_lens, pull.share));
         #[cfg(feature = "no-rim-pull")]
         {
             let _ = (d, t, pull);

@@ -1555,15 +1555,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     }
 
     /// What a lens ray through `p_lens` carries for its footprint's pull
-    /// (share `share` of its offset: [`defocus::Stratum::pull`]): nothing
-    /// with the scene's rim pull off, or on the micro:bit (`no-rim-pull`).
+    /// (share `share` of its offset: [`defocus::Stratum::pull`]): none
+    /// with the scene's rim pull off; nothing on the micro:bit (`no-rim-pull`).
     #[inline(always)]
-    fn pull(&self, p_lens: (i32, i32), share: S) -> defocus::Pull<S> {
+    fn pull(&self, p_lens: (i32, i32), share: S) -> defocus::Pull<'_, S> {
         #[cfg(not(feature = "no-rim-pull"))]
-        return if self.scene.rim_pulled() {
-            self.camera.lens_offset(p_lens, share)
-        } else {
-            Vec3::ZERO
+        return defocus::Pull {
+            camera: &self.camera,
+            p_lens,
+            share: if self.scene.rim_pulled() { share } else { S::ZERO },
         };
         #[cfg(feature = "no-rim-pull")]
         {

@@ -205,7 +205,7 @@ impl<S: Scalar> Scene<S> {
         &self,
         ray: &Ray<S>,
         cones: &LensCones<S>,
-        footprint: Option<(&Defocus<S>, S, Pull<S>)>,
+        footprint: Option<(&Defocus<S>, S, Pull<'_, S>)>,
     ) -> (Vec3<S>, Option<(usize, S)>) {
         self.trace_culled(ray.origin, ray.dir, ray.precise, Some(cones), footprint)
     }
@@ -216,7 +216,7 @@ impl<S: Scalar> Scene<S> {
         d: Vec3<S>,
         precise: S::Dir,
         cones: Option<&LensCones<S>>,
-        footprint: Option<(&Defocus<S>, S, Pull<S>)>,
+        footprint: Option<(&Defocus<S>, S, Pull<'_, S>)>,
     ) -> (Vec3<S>, Option<(usize, S)>) {
         let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::HIT_EPSILON, cones) else {
             return (self.background, None);
@@ -268,7 +268,7 @@ impl<S: Scalar> Scene<S> {
         let m = &obj.material;
         let filtered = match footprint {
             Some((defocus, stratum, pull)) if obj.texture > S::ZERO && stratum > S::ZERO => {
-                let shift = defocus.shift(d, hit.t, pull);
+                let shift = defocus.shift_of(d, hit.t, pull);
                 obj.checker_filtered(&hit, d, n, defocus.width(d, hit.t, stratum), shift)
             }
             _ => None,
