@@ -711,8 +711,11 @@ impl<S: Scalar> Object<S> {
     /// averaged over a lens ray's footprint: a disc of radius `w` world units
     /// across the ray (unit `d`) projected along it onto the surface, whose
     /// unit world normal at the hit is `n_world` (either side). `None` where
-    /// the footprint lies inside one square (then [`Object::in_dark_square`]
-    /// decides, bit for bit as before), or without texture. The checker is a
+    /// the footprint lies inside the hit's own square (then [`Object::in_dark_square`]
+    /// decides, bit for bit as before), or without texture. The footprint's
+    /// centre is the hit moved by `shift`, world units across the ray (the
+    /// rim pull: [`crate::render::defocus::Defocus::shift`]; zero for
+    /// none). The checker is a
     /// product of square waves along the object axes, so the average over the
     /// footprint's bounding box is the product of each wave's average, the
     /// difference of its integral (a triangle wave) at the box's ends over
