@@ -146,16 +146,22 @@ impl<S: Scalar> Defocus<S> {
         pull.scale(self.depth_ratio(d, t).sub(S::ONE))
     }
 
-    /// [`Defocus::shift`] of the ray `pull` describes (its offset made
-    /// here, for a ray that met a checker); 0 on the micro:bit.
+    /// A checker footprint's radius ([`Defocus::width`]) and its centre's
+    /// move ([`Defocus::shift`]) for the ray `pull` describes, from one
+    /// depth ratio (its offset made here, for a ray that met a checker); no
+    /// move on the micro:bit.
     #[inline]
-    pub(crate) fn shift_of(&self, d: Vec3<S>, t: S, pull: Pull<'_, S>) -> Vec3<S> {
+    pub(crate) fn checker_footprint(&self, d: Vec3<S>, t: S, stratum: S, pull: Pull<'_, S>) -> (S, Vec3<S>) {
         #[cfg(not(feature = "no-rim-pull"))]
-        return self.shift(d, t, pull.camera.lens_offset(pull.p_lens, pull.share));
+        {
+            let off = S::ONE.sub(self.depth_ratio(d, t));
+            let offset = pull.camera.lens_offset(pull.p_lens, pull.share);
+            (stratum.mul(off.abs()), (-offset).scale(off))
+        }
         #[cfg(feature = "no-rim-pull")]
         {
-            let _ = (d, t, pull);
-            Vec3::ZERO
+            let _ = pull;
+            (self.width(d, t, stratum), Vec3::ZERO)
         }
     }
 }

@@ -268,8 +268,8 @@ impl<S: Scalar> Scene<S> {
         let m = &obj.material;
         let filtered = match footprint {
             Some((defocus, stratum, pull)) if obj.texture > S::ZERO && stratum > S::ZERO => {
-                let shift = defocus.shift_of(d, hit.t, pull);
-                obj.checker_filtered(&hit, d, n, defocus.width(d, hit.t, stratum), shift)
+                let (width, shift) = defocus.checker_footprint(d, hit.t, stratum, pull);
+                obj.checker_filtered(&hit, d, n, width, shift)
             }
             _ => None,
         };
