@@ -43,6 +43,14 @@ fn main() {
             s.4 += signed(ci);
         }
     }
+    println!(
+        "gaps {} (period {}, loose {}), extends {}, budget {:.2} rays",
+        r.gaps(),
+        r.gap_period(),
+        r.gap_loose(),
+        r.extends(),
+        r.gap_budget() as f64 / 256.0
+    );
     println!("point {point}: rays -> pixels, default sq err, independent sq err, mean signed error a channel (default, independent)");
     for (n, (k, d, i, b, bi)) in by {
         println!(

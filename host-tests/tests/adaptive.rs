@@ -256,6 +256,22 @@ fn a_checkered_solid_before_the_lens_meets_both_floors_with_its_footprints_pulle
     assert!(on >= off + 1.0, "{on:.2} dB pulled, {off:.2} dB centred");
 }
 
+/// Seed 12559 forced to `point` 6: lamps far above white on nearly every
+/// pixel, its reference white almost everywhere. Its rays' ranges unclamped
+/// made most pixels wide, which left extension off, and a pixel whose 2 rays
+/// took in a dark one fell below white (-12.8 dB against the PSNR floor).
+/// Clamped at white, only the pixels whose rays straddle it are wide and
+/// extend: both floors. (At 160x120 and `point` 4 they are too many for the
+/// budget, and it still misses: see BENCHMARKS.md.)
+#[test]
+fn a_blown_out_frame_at_a_small_point_extends_only_the_pixels_whose_rays_straddle_white() {
+    let generated = lensray_testkit::scenegen::generate_lens(12559) + "\nsampler stratified\nadaptive on\n";
+    let text = lensray_host::convergence::with_point(&generated, 6);
+    let (w, h) = (320, 240);
+    assert!(Renderer::new(&Scene::<I16F16>::parse(&text).unwrap(), w, h).extends());
+    floors_hold_on("seed 12559 at point 6", &text, w, h);
+}
+
 /// Seed 11777 at `point` 20 and 21, where the pilots are the whole budget
 /// or nearly: a lamp sphere's highlight reaches its pixels through slivers
 /// of the lens beside a cylinder just before it. Those pixels are soft rims

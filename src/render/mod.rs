@@ -202,7 +202,8 @@ pub fn dithered_budget(samples: u32, col: u32, row: u32) -> u32 {
 }
 
 /// The range of a pixel's rays, in levels on some channel (the most less
-/// the least), above which a pixel that casts with gaps goes on from its
+/// the least, each clamped at white: rays all above it leave the pixel
+/// white, and unclamped a blown-out frame counted most pixels wide), above which a pixel that casts with gaps goes on from its
 /// budget to every sample (see [`Renderer::extends`]): at 2 or 4 rays a
 /// pixel, such a pixel is where the frame's error is (a lamp or an edge
 /// through part of the lens), and where its rays agree within 32 levels,
@@ -1830,7 +1831,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
                 n += 1;
             }
             if track {
-                let levels = [c.x.to_level(), c.y.to_level(), c.z.to_level()];
+                // Clamped at white: rays all above it leave the pixel white.
+                let levels = [c.x, c.y, c.z].map(|v| v.to_level().min(255));
                 // A forced ray is from another part of the lens by design: no
                 // sign that the block's own rays disagree (seed 8919 took every
                 // sample on most pixels, 44.7 % of `point`).
