@@ -25,7 +25,7 @@ use embedded_graphics::primitives::{Circle, Line, PrimitiveStyle, Rectangle};
 use embedded_graphics::text::Text;
 use lensray::unstable::sampler::Sampler;
 use lensray::Scene;
-use lensray_host::convergence::{measure, reference, Point as Quality, Setting};
+use lensray_host::convergence::{measure, psnr_axis, reference, Point as Quality, Setting};
 use lensray_host::{encode, write_atomic, Diff, Format, Image};
 
 /// Sample counts of the curves (each scene's own `point` is added).
@@ -247,19 +247,16 @@ fn plot(rows: &[Row], w: u32, h: u32) -> Image {
     for (i, r) in rows.iter().enumerate() {
         let (ox, oy) = ((i as u32 % per_row * PW) as i32, (30 + i as u32 / per_row * PH) as i32);
         let (l, t, pw, ph) = (ox + 34, oy + 18, PW as i32 - 46, PH as i32 - 44);
-        let all: Vec<Quality> = r
-            .independent
-            .iter()
-            .chain(&r.stratified)
-            .map(|x| x.1)
-            .chain([r.default])
-            .collect();
-        let lo = (all.iter().map(|p| p.psnr).fold(f64::MAX, f64::min) / 5.0).floor() * 5.0;
-        let hi = (all.iter().map(|p| p.psnr).fold(f64::MIN, f64::max) / 5.0).ceil() * 5.0;
+        let all = r.independent.iter().chain(&r.stratified).map(|x| x.1.psnr);
+        let axis = psnr_axis(all.chain([r.default.psnr]));
         let (x_lo, x_hi) = (2.0f64, (r.point.max(4) as f64).log2().ceil());
+        // An exact render (infinite PSNR) sits on the top edge, labelled "exact".
         let at = |p: Quality| {
             let x = l + ((p.rays.log2() - x_lo) / (x_hi - x_lo) * pw as f64) as i32;
-            let y = t + ph - ((p.psnr - lo) / (hi - lo).max(1.0) * ph as f64) as i32;
+            let y = match axis {
+                Some((lo, hi)) if p.psnr.is_finite() => t + ph - ((p.psnr - lo) / (hi - lo) * ph as f64) as i32,
+                _ => t,
+            };
             Point::new(x, y)
         };
         let _ = Rectangle::new(Point::new(l, t), Size::new(pw as u32, ph as u32))
@@ -271,8 +268,25 @@ fn plot(rows: &[Row], w: u32, h: u32) -> Image {
             ink,
         )
         .draw(&mut img);
-        let _ = Text::new(&format!("{hi:.0}"), Point::new(ox + 4, t + 8), ink).draw(&mut img);
-        let _ = Text::new(&format!("{lo:.0}"), Point::new(ox + 4, t + ph), ink).draw(&mut img);
+        match axis {
+            Some((lo, hi)) => {
+                let _ = Text::new(&format!("{hi:.0}"), Point::new(ox + 4, t + 8), ink).draw(&mut img);
+                let _ = Text::new(&format!("{lo:.0}"), Point::new(ox + 4, t + ph), ink).draw(&mut img);
+            }
+            None => {
+                let note = "every render exact (infinite PSNR)";
+                let _ = Text::new(note, Point::new(l + 8, t + ph / 2), ink).draw(&mut img);
+            }
+        }
+        let exact = r
+            .independent
+            .iter()
+            .chain(&r.stratified)
+            .any(|x| x.1.psnr.is_infinite())
+            || r.default.psnr.is_infinite();
+        if exact {
+            let _ = Text::new("exact", Point::new(l + pw - 34, t + 10), ink).draw(&mut img);
+        }
         let mut k = x_lo as u32;
         while k as f64 <= x_hi {
             let x = l + ((k as f64 - x_lo) / (x_hi - x_lo) * pw as f64) as i32;

@@ -126,6 +126,22 @@ pub fn measure(text: &str, reference: &Image, setting: Setting) -> Result<Point,
     Ok(Point { psnr, rays })
 }
 
+/// A plot's PSNR axis, from the least finite value to the largest, each
+/// rounded out to 5 dB; `None` where every render is exact (infinite PSNR,
+/// nothing to scale). Exact renders are left out of the range, so that one
+/// does not stretch the axis to infinity (a plot draws them at its top).
+pub fn psnr_axis(psnrs: impl IntoIterator<Item = f64>) -> Option<(f64, f64)> {
+    let (lo, hi) = psnrs
+        .into_iter()
+        .filter(|p| p.is_finite())
+        .fold(None, |acc: Option<(f64, f64)>, p| {
+            Some(acc.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p))))
+        })?;
+    let (lo, hi) = ((lo / 5.0).floor() * 5.0, (hi / 5.0).ceil() * 5.0);
+    // A flat curve still gets a 5 dB axis.
+    Some((lo, if hi > lo { hi } else { lo + 5.0 }))
+}
+
 /// `text` with its `point` statement replaced by `point N` (first): the same
 /// scene at another sample count (campaigns at every `point`).
 pub fn with_point(text: &str, point: u32) -> String {
@@ -155,4 +171,21 @@ pub fn seed_frame(args: &[String]) -> (u64, String, u32, u32) {
         return (0, text, w, w * 3 / 4);
     };
     (seed, lensray_testkit::scenegen::generate_lens(seed), w, w * 3 / 4)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::psnr_axis;
+
+    #[test]
+    fn the_psnr_axis_spans_the_finite_values_rounded_out_to_5_db() {
+        assert_eq!(psnr_axis([31.2, 44.9, 38.0]), Some((30.0, 45.0)));
+        // An exact render (infinite PSNR) does not stretch the axis.
+        assert_eq!(psnr_axis([f64::INFINITY, 52.1, 47.3]), Some((45.0, 55.0)));
+        // One value, or values on a 5 dB mark, still give an axis 5 dB tall.
+        assert_eq!(psnr_axis([40.0]), Some((40.0, 45.0)));
+        // Every render exact: nothing to scale.
+        assert_eq!(psnr_axis([f64::INFINITY; 3]), None);
+        assert_eq!(psnr_axis([]), None);
+    }
 }
