@@ -189,11 +189,13 @@ fn markdown(rows: &[Row], w: u32, h: u32, ref_n: u32) -> String {
                     String::new()
                 },
                 if first {
-                    format!(
-                        "{} ({:+.1} dB)",
-                        if met { "**met**" } else { "**NOT met**" },
-                        r.default.psnr - ind_point
-                    )
+                    // Both exact: inf - inf would print NaN.
+                    let margin = if r.default.psnr.is_infinite() && ind_point.is_infinite() {
+                        "both exact".to_string()
+                    } else {
+                        format!("{:+.1} dB", r.default.psnr - ind_point)
+                    };
+                    format!("{} ({margin})", if met { "**met**" } else { "**NOT met**" })
                 } else {
                     String::new()
                 },
@@ -249,7 +251,10 @@ fn plot(rows: &[Row], w: u32, h: u32) -> Image {
         let (l, t, pw, ph) = (ox + 34, oy + 18, PW as i32 - 46, PH as i32 - 44);
         let all = r.independent.iter().chain(&r.stratified).map(|x| x.1.psnr);
         let axis = psnr_axis(all.chain([r.default.psnr]));
-        let (x_lo, x_hi) = (2.0f64, (r.point.max(4) as f64).log2().ceil());
+        // From 4 rays, or fewer where the default cast fewer (`point` 6 casts 2.2):
+        // a dot left of the axis was drawn in the panel beside.
+        let x_lo = r.default.rays.max(1.0).log2().floor().min(2.0);
+        let x_hi = (r.point.max(4) as f64).log2().ceil();
         // An exact render (infinite PSNR) sits on the top edge, labelled "exact".
         let at = |p: Quality| {
             let x = l + ((p.rays.log2() - x_lo) / (x_hi - x_lo) * pw as f64) as i32;
