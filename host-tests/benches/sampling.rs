@@ -249,8 +249,14 @@ fn plot(rows: &[Row], w: u32, h: u32) -> Image {
     for (i, r) in rows.iter().enumerate() {
         let (ox, oy) = ((i as u32 % per_row * PW) as i32, (30 + i as u32 / per_row * PH) as i32);
         let (l, t, pw, ph) = (ox + 34, oy + 18, PW as i32 - 46, PH as i32 - 44);
-        let all = r.independent.iter().chain(&r.stratified).map(|x| x.1.psnr);
-        let axis = psnr_axis(all.chain([r.default.psnr]));
+        let psnrs: Vec<f64> = r
+            .independent
+            .iter()
+            .chain(&r.stratified)
+            .map(|x| x.1.psnr)
+            .chain([r.default.psnr])
+            .collect();
+        let axis = psnr_axis(psnrs.iter().copied());
         // From 4 rays, or fewer where the default cast fewer (`point` 6 casts 2.2):
         // a dot left of the axis was drawn in the panel beside.
         let x_lo = r.default.rays.max(1.0).log2().floor().min(2.0);
@@ -283,13 +289,7 @@ fn plot(rows: &[Row], w: u32, h: u32) -> Image {
                 let _ = Text::new(note, Point::new(l + 8, t + ph / 2), ink).draw(&mut img);
             }
         }
-        let exact = r
-            .independent
-            .iter()
-            .chain(&r.stratified)
-            .any(|x| x.1.psnr.is_infinite())
-            || r.default.psnr.is_infinite();
-        if exact {
+        if psnrs.iter().any(|p| p.is_infinite()) {
             let _ = Text::new("exact", Point::new(l + pw - 34, t + 10), ink).draw(&mut img);
         }
         let mut k = x_lo as u32;
