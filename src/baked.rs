@@ -63,11 +63,8 @@
 use crate::camera::sampler::Sampler;
 use crate::camera::{Camera, MAX_IMAGE_SIDE};
 use crate::render::cull::LensCones;
-use crate::render::cut::LensCut;
 use crate::render::defocus::Defocus;
-use crate::render::footprint::BrightFootprints;
-use crate::render::lamps::LampParts;
-use crate::render::Renderer;
+use crate::render::{Renderer, StopRule};
 use crate::scene::{Scene, MAX_OBJECTS};
 
 pub use crate::bytes::{crc32, BakeError, Field, Reader, Writer, FORMAT_VERSION, HEADER_LEN, MAGIC, TRAILER_LEN};
@@ -81,36 +78,18 @@ fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
         scene,
         camera,
         cones,
-        samples,
-        adaptive,
-        sampler,
-        bright,
         defocus,
-        cap,
-        survey_rays,
-        spread,
-        floor,
-        budget256,
-        rules,
-        cut,
-        lamps,
+        samples,
+        sampler,
+        stop,
     } = r;
     put_scene(scene, w);
     camera.put(w);
     cones.put(w);
-    samples.put(w);
-    adaptive.put(w);
-    sampler.put(w);
-    bright.put(w);
     defocus.put(w);
-    cap.put(w);
-    survey_rays.put(w);
-    spread.put(w);
-    floor.put(w);
-    budget256.put(w);
-    rules.put(w);
-    cut.put(w);
-    lamps.put(w);
+    samples.put(w);
+    sampler.put(w);
+    stop.put(w);
 }
 
 fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
@@ -123,9 +102,6 @@ fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
         objects,
         lights,
         // Host-side switches (on when loaded), not part of the bake.
-        exact_retake: _,
-        terminator_filter: _,
-        rim_pull: _,
     } = s;
     ambient.put(w);
     background.put(w);
@@ -176,20 +152,11 @@ pub struct Baked<S: BakeScalar> {
     scene: Scene<S>,
     camera: Camera<S>,
     cones: LensCones<S>,
-    samples: u32,
-    adaptive: bool,
-    sampler: Sampler,
-    bright: BrightFootprints,
     defocus: Defocus<S>,
-    cap: u32,
-    survey_rays: u32,
-    spread: u32,
-    floor: u32,
-    budget256: u32,
-    rules: u32,
-    cut: LensCut,
-    lamps: LampParts,
-    /// The cones and footprints were moved out by [`Baked::take_renderer`].
+    samples: u32,
+    sampler: Sampler,
+    stop: Option<StopRule>,
+    /// The cones were moved out by [`Baked::take_renderer`].
     taken: bool,
 }
 
@@ -200,19 +167,10 @@ impl<S: BakeScalar> Baked<S> {
             scene: Scene::default(),
             camera: Camera::blank(),
             cones: LensCones::blank(),
+            defocus: Field::blank(),
             samples: 1,
-            adaptive: false,
             sampler: Sampler::default(),
-            bright: BrightFootprints::blank(),
-            defocus: Defocus::blank(),
-            cap: 0,
-            survey_rays: 0,
-            spread: 0,
-            floor: 0,
-            budget256: 0,
-            rules: 0,
-            cut: LensCut::NONE,
-            lamps: LampParts::NONE,
+            stop: None,
             taken: false,
         }
     }
@@ -251,19 +209,10 @@ impl<S: BakeScalar> Baked<S> {
         scene.lights.clear();
         self.camera = Camera::blank();
         self.cones = LensCones::blank();
+        self.defocus = Field::blank();
         self.samples = 1;
-        self.adaptive = false;
         self.sampler = Sampler::default();
-        self.bright = BrightFootprints::blank();
-        self.defocus = Defocus::blank();
-        self.cap = 0;
-        self.survey_rays = 0;
-        self.spread = 0;
-        self.floor = 0;
-        self.budget256 = 0;
-        self.rules = 0;
-        self.cut = LensCut::NONE;
-        self.lamps = LampParts::NONE;
+        self.stop = None;
     }
 
     fn load_checked(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
@@ -318,9 +267,6 @@ impl<S: BakeScalar> Baked<S> {
             shadows,
             objects,
             lights,
-            exact_retake: _,
-            terminator_filter: _,
-            rim_pull: _,
         } = &mut self.scene;
         ambient.take(r);
         background.take(r);
@@ -329,19 +275,10 @@ impl<S: BakeScalar> Baked<S> {
         lights.take(r);
         self.camera.take(r);
         self.cones.take(r);
-        self.samples.take(r);
-        self.adaptive.take(r);
-        self.sampler.take(r);
-        self.bright.take(r);
         self.defocus.take(r);
-        self.cap.take(r);
-        self.survey_rays.take(r);
-        self.spread.take(r);
-        self.floor.take(r);
-        self.budget256.take(r);
-        self.rules.take(r);
-        self.cut.take(r);
-        self.lamps.take(r);
+        self.samples.take(r);
+        self.sampler.take(r);
+        Field::take(&mut self.stop, r);
         if !r.ok() {
             return;
         }
@@ -357,8 +294,13 @@ impl<S: BakeScalar> Baked<S> {
             return r.out_of_range("image side not in 1..=8192");
         }
         // The statements the renderer still reads from the scene's camera.
+        if let Some(rule) = self.stop {
+            if !rule.pilot.is_power_of_two() || rule.pilot > self.samples {
+                return r.out_of_range("stop rule's pilot is not a power of two within the samples");
+            }
+        }
         self.scene.camera.samples = self.samples;
-        self.scene.camera.adaptive = self.adaptive;
+        self.scene.camera.adaptive = self.stop.is_some();
         self.scene.camera.sampler = self.sampler;
     }
 
@@ -373,19 +315,10 @@ impl<S: BakeScalar> Baked<S> {
             scene: &self.scene,
             camera: self.camera,
             cones: self.cones.clone(),
-            samples: self.samples,
-            adaptive: self.adaptive,
-            sampler: self.sampler,
-            bright: self.bright.clone(),
             defocus: self.defocus,
-            cap: self.cap,
-            survey_rays: self.survey_rays,
-            spread: self.spread,
-            floor: self.floor,
-            budget256: self.budget256,
-            rules: self.rules,
-            cut: self.cut.clone(),
-            lamps: self.lamps.clone(),
+            samples: self.samples,
+            sampler: self.sampler,
+            stop: self.stop,
         }
     }
 
@@ -403,21 +336,12 @@ impl<S: BakeScalar> Baked<S> {
         self.taken = true;
         Renderer {
             cones: core::mem::replace(&mut self.cones, LensCones::blank()),
-            bright: core::mem::replace(&mut self.bright, BrightFootprints::blank()),
             scene: &self.scene,
             camera: self.camera,
-            samples: self.samples,
-            adaptive: self.adaptive,
-            sampler: self.sampler,
             defocus: self.defocus,
-            cap: self.cap,
-            survey_rays: self.survey_rays,
-            spread: self.spread,
-            floor: self.floor,
-            budget256: self.budget256,
-            rules: self.rules,
-            cut: core::mem::replace(&mut self.cut, LensCut::NONE),
-            lamps: core::mem::replace(&mut self.lamps, LampParts::NONE),
+            samples: self.samples,
+            sampler: self.sampler,
+            stop: self.stop,
         }
     }
 

@@ -9,7 +9,7 @@ use fixed::types::I16F16;
 /// The first four bytes of every baked scene.
 pub const MAGIC: [u8; 4] = *b"LRBK";
 /// The format this library writes and reads. Bump it when any baked struct changes.
-pub const FORMAT_VERSION: u16 = 18;
+pub const FORMAT_VERSION: u16 = 19;
 /// Bytes before the payload: magic, version, number type, reserved, length.
 pub const HEADER_LEN: usize = 12;
 /// Bytes after the payload: the CRC-32.
@@ -302,33 +302,6 @@ macro_rules! baked_fields {
     };
 }
 pub(crate) use baked_fields;
-
-/// `Field` for a part a build leaves out (a feature): `$words` zero words
-/// written, and as many read past, one loop (the micro:bit's flash); blank
-/// is the type's `NONE`.
-#[cfg(any(feature = "no-lens-cut", feature = "no-lamp-parts"))]
-macro_rules! read_past_field {
-    ($name:ident, $words:expr) => {
-        impl $crate::bytes::Field for $name {
-            fn put(&self, w: &mut $crate::bytes::Writer<'_>) {
-                for _ in 0..$words {
-                    $crate::bytes::Field::put(&0u32, w);
-                }
-            }
-            fn take(&mut self, r: &mut $crate::bytes::Reader<'_>) {
-                let mut word = 0u32;
-                for _ in 0..$words {
-                    $crate::bytes::Field::take(&mut word, r);
-                }
-            }
-            fn blank() -> Self {
-                Self::NONE
-            }
-        }
-    };
-}
-#[cfg(any(feature = "no-lens-cut", feature = "no-lamp-parts"))]
-pub(crate) use read_past_field;
 
 macro_rules! int_field {
     ($($t:ty: $n:literal),*) => {$(

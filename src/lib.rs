@@ -45,23 +45,22 @@
 //!
 //! ## API
 //!
-//! The items at the crate root are the API a firmware, the web page and the
-//! CLI call: [`Scene`] and its parser's [`ParseError`], [`render()`],
-//! [`render_with`] and [`Renderer`] (with [`CameraSample`] for one lens ray),
-//! [`progressive`] rendering, the [`baked`] loader, the number trait
-//! [`Scalar`] with [`I16F16`], and [`Vec3`], [`Shape`] and the limits.
-//!
-//! Everything else is private. The host tests, the firmware's profiler and
-//! the tools reach some internals through `lensray::unstable`, hidden from the
-//! documentation: those paths may change in any release.
+//! The items at the crate root are the whole API, the one the firmware, the
+//! web page, the CLI and the host tests call: [`Scene`] (its camera
+//! [`CameraParams`], [`Sampler`] and [`Aperture`]) and its parser's
+//! [`ParseError`]; [`render()`], [`render_with`] and [`Renderer`] (with
+//! [`Ray`] and [`CameraSample`] for one camera ray, and the [`adaptive`]
+//! sampler's [`StopRule`]); [`progressive`] rendering; the [`baked`] loader;
+//! the number trait [`Scalar`] with [`I16F16`]; and [`Vec3`], [`Shape`], the
+//! material table and the limits. Everything else is private.
 //!
 //! Inside, each module uses only those before it, and no file of `src/`
 //! imports one that imports it back (a unit test checks both): `bytes` (the
 //! checked byte form of every baked value); `number` (the trait, its Q16.16
 //! and `f32` implementations and their exact kernels); `geometry`; `camera`
 //! (statements, lens, the one ray-making entry); `scene` (data, shapes,
-//! autofocus); `parse`; `render` (tracing, culling, bright footprints,
-//! progressive rendering); `baked`.
+//! autofocus); `parse`; `render` (adaptive sampling, tracing, culling,
+//! checker footprints, progressive rendering); `baked`.
 
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
@@ -77,55 +76,19 @@ mod parse;
 mod render;
 mod scene;
 
-pub use camera::{CameraSample, MAX_IMAGE_SIDE};
+pub use camera::aperture::Aperture;
+pub use camera::sampler::Sampler;
+pub use camera::{CameraParams, CameraSample, MAX_IMAGE_SIDE};
 pub use fixed::types::I16F16;
+pub use geometry::ray::Ray;
 pub use geometry::vec3::Vec3;
 pub use number::Scalar;
-pub use parse::{ErrorKind, ParseError};
+pub use parse::{ErrorKind, Keyword, ParseError, Section, KEYWORDS};
+pub use render::adaptive::{self, StopRule};
 pub use render::progressive;
 pub use render::{render, render_with, Renderer};
 pub use scene::shape::Shape;
-pub use scene::{Scene, MAX_LIGHTS, MAX_OBJECTS};
-
-/// Internals for the host tests, the firmware's profiler and the tools:
-/// unstable, outside the API, may change in any release.
-#[doc(hidden)]
-pub mod unstable {
-    pub use crate::camera::{aperture, lfsr, sampler};
-    pub use crate::geometry::{transform, vec3};
-    pub use crate::number::film;
-    pub use crate::render::{cull, defocus, footprint, progressive};
-    pub use crate::scene::{autofocus, shape};
-
-    /// `lensray::camera`'s items.
-    pub mod camera {
-        pub use crate::camera::*;
-    }
-    /// `lensray::scene`'s items.
-    pub mod scene {
-        pub use crate::scene::*;
-    }
-    /// `lensray::parse`'s items.
-    pub mod parse {
-        pub use crate::parse::*;
-    }
-    /// `lensray::render`'s items.
-    pub mod render {
-        pub use crate::render::*;
-    }
-    /// `lensray::number`'s items.
-    pub mod number {
-        pub use crate::number::*;
-    }
-    /// `lensray::geometry`'s items.
-    pub mod geometry {
-        pub use crate::geometry::*;
-    }
-    /// `lensray::bytes`'s items.
-    pub mod bytes {
-        pub use crate::bytes::*;
-    }
-}
+pub use scene::{NamedMaterial, Scene, DEFAULT_MATERIAL, MATERIALS, MAX_LIGHTS, MAX_OBJECTS};
 
 #[cfg(test)]
 mod layout_tests;

@@ -163,7 +163,7 @@ fn phong_shading_matches_the_spec_formula() {
     );
     fn centre<S: Scalar>(text: &str) -> [f64; 3] {
         let scene = Scene::<S>::parse(text).unwrap();
-        Renderer::new(&scene, 9, 9).pixel_colour(4, 4).to_f64()
+        Renderer::new(&scene, 9, 9).pixel_rays(4, 4).0.to_f64()
     }
     for got in [centre::<f32>(text), centre::<I16F16>(text)] {
         for i in 0..3 {

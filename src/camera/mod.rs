@@ -15,7 +15,6 @@
 //! itself is deterministic.
 
 use crate::camera::aperture::Aperture;
-use crate::camera::lfsr::Lfsr;
 use crate::camera::sampler::Sampler;
 pub use crate::geometry::ray::Ray;
 use crate::geometry::transform::{Affine, Mat34};
@@ -241,26 +240,6 @@ impl<S: Scalar> Camera<S> {
         &self.aperture
     }
 
-    /// The next lens point (Q1.15, within the unit circle) from a pixel's
-    /// register, uniform on the aperture: integers only, as [`CameraSample::lens`] takes it.
-    #[inline]
-    pub fn lens_sample(&self, lfsr: &mut Lfsr) -> (i32, i32) {
-        self.aperture.sample(lfsr)
-    }
-
-    /// The film point `(u_c, v_r, −N)` of pixel (`col`, `row`), camera frame.
-    #[inline]
-    pub fn p_film(&self, col: u32, row: u32) -> Vec3<S> {
-        self.film.point(Self::pixel_index(col, row))
-    }
-
-    /// `(2c + 1, 2r + 1, 0)`: what the film transform maps to a film point.
-    #[inline]
-    fn pixel_index(col: u32, row: u32) -> Vec3<S> {
-        let (i, j) = Self::doubled(col, row);
-        Vec3::new(S::from_i32(i), S::from_i32(j), S::ZERO)
-    }
-
     /// `(2c + 1, 2r + 1)`: the pixel centre in half-pixel units.
     #[inline]
     fn doubled(col: u32, row: u32) -> (i32, i32) {
@@ -302,15 +281,6 @@ impl<S: Scalar> Camera<S> {
             dir: Vec3::from_array(dir),
             precise,
         }
-    }
-
-    /// `share` of the lens point `lens`'s offset from the lens centre
-    /// (`s_x a u + s_y a v`, world space): where a footprint's centre is
-    /// pulled from (see [`crate::render::defocus::Stratum::pull`]).
-    #[inline]
-    pub fn lens_offset(&self, lens: (i32, i32), share: S) -> Vec3<S> {
-        let (sx, sy) = (S::from_q15(lens.0).mul(share), S::from_q15(lens.1).mul(share));
-        self.lens_u * sx + self.lens_v * sy
     }
 
     /// The ray from the lens point `lens = (s_x, s_y)` (Q1.15, on the unit disk)
@@ -376,7 +346,7 @@ mod tests {
         let cam = Camera::<f32>::new(&params, 640, 480);
         // Pixel (0, 0): u = −W + p/2, v = H − p/2, with p = 10/640, H = p·480/2.
         let p = 10.0 / 640.0;
-        let f = cam.p_film(0, 0).to_f64();
+        let f = cam.film.point(Vec3::new(1.0, 1.0, 0.0)).to_f64();
         assert!((f[0] - (-5.0 + p / 2.0)).abs() < 1e-6);
         assert!((f[1] - (p * 240.0 - p / 2.0)).abs() < 1e-6);
         assert_eq!(f[2], -8.0);

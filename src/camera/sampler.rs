@@ -99,11 +99,6 @@ impl PixelSamples {
         }
     }
 
-    /// How many points were drawn so far.
-    pub fn drawn(&self) -> u32 {
-        self.index
-    }
-
     /// The next point of the unit square, as two 16-bit fractions (stratified
     /// sampler), or `None` for the independent sampler (which draws on the
     /// aperture directly).
@@ -125,19 +120,6 @@ impl PixelSamples {
         }
     }
 
-    /// A lens point uniform over the part of `aperture` where `keep` holds,
-    /// drawn from the pixel's register (the independent sampler's draw) at
-    /// most `tries` times; `None` if no draw landed there. The sequence's
-    /// index is left as it is. (A lens cut by a plane: the part beyond it,
-    /// see [`crate::render::cut`].)
-    pub fn draw_where(
-        &mut self,
-        aperture: &Aperture,
-        tries: u32,
-        keep: impl Fn((i32, i32)) -> bool,
-    ) -> Option<(i32, i32)> {
-        (0..tries).map(|_| aperture.sample(&mut self.lfsr)).find(|&p| keep(p))
-    }
 
     /// The next lens point on `aperture`, Q1.15 (as [`Aperture::sample`]).
     // Not `next_point(..).0`: that cost the micro:bit's pixel loop 52 bytes of flash.
@@ -152,25 +134,7 @@ impl PixelSamples {
         }
     }
 
-    /// [`PixelSamples::next`] and, for the stratified sampler, the point of
-    /// the unit square it was mapped from.
-    #[inline]
-    pub fn next_point(&mut self, aperture: &Aperture) -> ((i32, i32), Option<(u16, u16)>) {
-        match self.next_unit() {
-            Some((u, v)) => (aperture.map_q16(u, v), Some((u, v))),
-            None => {
-                self.index = self.index.wrapping_add(1);
-                (aperture.sample(&mut self.lfsr), None)
-            }
-        }
-    }
 
-    /// 32 fresh bits from the pixel's register; the sequence's index is left
-    /// as it is (a ray drawn in a lamp's part of the lens, see
-    /// [`crate::render::lamps`]).
-    pub fn draw_u32(&mut self) -> u32 {
-        (self.lfsr.next_u16() as u32) << 16 | self.lfsr.next_u16() as u32
-    }
 }
 
 impl crate::bytes::Field for Sampler {
@@ -257,7 +221,6 @@ mod tests {
         for _ in 0..100 {
             assert_eq!(s.next(&ap), ap.sample(&mut r));
         }
-        assert_eq!(s.drawn(), 100);
     }
 
     /// The first `n` lens points of pixel (`col`, `row`), in units of the lens radius.

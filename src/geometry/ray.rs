@@ -11,5 +11,5 @@ pub struct Ray<S: Scalar> {
     /// Unit direction.
     pub dir: Vec3<S>,
     /// The same unit direction held more precisely (for the plane).
-    pub precise: S::Dir,
+    pub(crate) precise: S::Dir,
 }

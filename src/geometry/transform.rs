@@ -255,18 +255,6 @@ impl<S: Scalar> Affine<S> {
         )
     }
 
-    /// One coordinate of a transformed point (`i` in 0..3).
-    #[inline]
-    pub fn point_coord(&self, i: usize, p: Vec3<S>) -> S {
-        S::row_apply(&self.rows[i], p.to_array(), true)
-    }
-
-    /// One coordinate of a transformed direction (`i` in 0..3).
-    #[inline]
-    pub fn vector_coord(&self, i: usize, v: Vec3<S>) -> S {
-        S::row_apply(&self.rows[i], v.to_array(), false)
-    }
-
     /// Entry (`i`, `j`) of the linear part (rounded to `S`; `j` 0 to 2).
     #[inline]
     pub fn entry(&self, i: usize, j: usize) -> S {

@@ -564,12 +564,9 @@ impl Kernels for I16F16 {
     ) -> Option<i64> {
         crate::number::q16::exact_t(rows, o, d, s, hit, surface)
     }
-    // The micro:bit leaves the retakes out (its flash): the trait's None.
-    #[cfg(not(feature = "no-exact-retakes"))]
     fn exact_hit_point(o: [Self; 3], d: &FixedDir, t: i64) -> Option<[Self; 3]> {
         crate::number::q16::exact_hit_point(o, d, t)
     }
-    #[cfg(not(feature = "no-exact-retakes"))]
     fn shadow_line(
         o: [Self; 3],
         d: &FixedDir,

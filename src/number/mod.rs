@@ -34,7 +34,6 @@ mod scalar;
 pub(crate) mod wide;
 
 pub(crate) use q16::{Decided, CONE, CUBE, CYLINDER, FLAT, HIGH_CAP, LOW_CAP, ROUND, SIDE};
-pub use q16::{FixedDir, FixedRow};
 pub use scalar::{BakeScalar, Scalar};
 // The unit tests check kernels directly.
 #[cfg(test)]

@@ -368,7 +368,6 @@ pub(crate) fn exact_t(
 /// The point `o + t d` of a world ray (`d` held precisely, with the
 /// origin's bits below Q16.16) at 2^-32, for `t` at 2^-30 (an exact
 /// distance, from [`exact_t`]). `None` where the scales do not fit.
-#[cfg(not(feature = "no-exact-retakes"))]
 #[inline(never)]
 fn exact_along(o: [I16F16; 3], d: &FixedDir, t: i64) -> Option<[i64; 3]> {
     // D t at 2^-32 is m t 2^(e + 2): t split at 2^-16 keeps each product below 2^62.
@@ -390,7 +389,6 @@ fn exact_along(o: [I16F16; 3], d: &FixedDir, t: i64) -> Option<[i64; 3]> {
 
 /// A point at 2^-32 as its nearest Q16.16 value and the rest below it
 /// (-2^15 to 2^15 at 2^-32); `None` beyond the range.
-#[cfg(not(feature = "no-exact-retakes"))]
 fn split32(x: i64) -> Option<(I16F16, i16)> {
     let q = (x + (1 << 15)) >> 16;
     Some((I16F16::from_bits(i32::try_from(q).ok()?), (x - (q << 16)) as i16))
@@ -400,7 +398,6 @@ fn split32(x: i64) -> Option<(I16F16, i16)> {
 /// rounded once to Q16.16: at grazing the rounded t of a bounded shape is
 /// off by its object-space rounding over the slope (1e-4 at a slope of
 /// 0.1), which moved a shadow ray's start past its tangent.
-#[cfg(not(feature = "no-exact-retakes"))]
 #[cold]
 #[inline(never)]
 pub(crate) fn exact_hit_point(o: [I16F16; 3], d: &FixedDir, t: i64) -> Option<[I16F16; 3]> {
@@ -416,7 +413,6 @@ pub(crate) fn exact_hit_point(o: [I16F16; 3], d: &FixedDir, t: i64) -> Option<[I
 /// at the light itself): Q16.16's P, rounded to 2^-16 a
 /// component, put a shadow ray 4.4e-6 from tangent to a cylinder on the
 /// other side (seeds 5116, 12124). `None` where the scales do not fit.
-#[cfg(not(feature = "no-exact-retakes"))]
 #[cold]
 #[inline(never)]
 pub(crate) fn shadow_line(

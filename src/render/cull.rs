@@ -110,11 +110,6 @@ impl<S: Scalar> LensCones<S> {
         self.cones.len()
     }
 
-    /// Whether there are no cones (a scene without objects).
-    pub fn is_empty(&self) -> bool {
-        self.cones.is_empty()
-    }
-
     /// Whether a ray from the lens along the unit `d` can reach object `i`.
     #[inline(always)]
     pub fn may_reach(&self, i: usize, d: Vec3<S>) -> bool {

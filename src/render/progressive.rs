@@ -17,11 +17,7 @@
 //! picture and nothing needs to be stored or read back. Each pixel is computed
 //! once with its full sample count (with adaptive sampling, the same samples
 //! the plain render takes, stopping where it stops): the refinement passes
-//! together cost exactly one plain render. Where rows are filtered (the
-//! default stratified, adaptive sampling of a lens camera: see
-//! [`crate::render::scanline`]) the last pass redraws the rows of the earlier
-//! grids whole, as a filtered pixel needs its neighbours: the passes then
-//! cost 1.25 plain renders (the coarser grids' quarter of the pixels twice).
+//! together cost exactly one plain render, as a pixel depends on itself alone.
 //!
 //! On top of that an optional *preview* pass draws the coarsest grid with few
 //! lens samples (1 by default): for Program 1 at 8 × 8 blocks and 70 rays a
@@ -210,7 +206,7 @@ where
     let renderer = pass_renderer(renderer, pass);
     let step = pass.step.max(1);
     let mut rays = 0;
-    for row in (0..renderer.camera().rows()).step_by(step as usize) {
+    for row in (0..renderer.camera.rows()).step_by(step as usize) {
         rays += draw_band(&renderer, target, pass, row)?;
     }
     Ok(rays)
@@ -241,7 +237,13 @@ where
 /// preview) at the pass's without a set-up survey, which a band at a time
 /// would repeat for every band.
 fn pass_renderer<'a, S: Scalar>(renderer: &Renderer<'a, S>, pass: &Pass) -> Renderer<'a, S> {
-    renderer.clone().with_samples_unsurveyed(pass.samples)
+    let mut r = renderer.clone();
+    if pass.samples < r.samples {
+        // A preview: every pixel its few samples, no stop rule.
+        r.samples = pass.samples.max(1);
+        r.stop = None;
+    }
+    r
 }
 
 /// The work of [`render_pass_row`], with the pass's sample count already set.
@@ -261,15 +263,17 @@ where
     let skip_in_row = pass.skip_coarser && row.is_multiple_of(step.saturating_mul(2));
     // No overflow below: row < addressable(origin.y) and col < addressable(origin.x).
     let at = |col: u32| Point::new(origin.x + col as i32, origin.y + row as i32);
-    // Where rows are filtered (see [`crate::render::scanline`]) the last pass
-    // draws every row whole: a filtered pixel needs its neighbours' values,
-    // which no earlier pass kept (a quarter of the pixels computed twice).
-    if step == 1 && (!skip_in_row || renderer.filters()) {
+    if step == 1 && !skip_in_row {
         // Single pixels: stream the row as a plain render does.
         let area = Rectangle::new(at(0), Size::new(cols, 1));
-        let mut pixels = renderer.scanline(row, cols);
-        target.fill_contiguous(&area, (&mut pixels).map(D::Color::from))?;
-        return Ok(pixels.rays() as u64);
+        let mut rays = 0u64;
+        let pixels = (0..cols).map(|col| {
+            let (c, n) = renderer.pixel_rays(col, row);
+            rays += n as u64;
+            D::Color::from(rgb(c))
+        });
+        target.fill_contiguous(&area, pixels)?;
+        return Ok(rays);
     }
     let mut rays = 0;
     for col in (0..cols).step_by(step as usize) {

@@ -69,19 +69,6 @@ impl Shape {
         }
     }
 
-    /// How the curved part's object-space normal ([`LocalHit::n`], linear in
-    /// the point there) changes along an object-space offset `q`: the
-    /// sphere's p, the cylinder's (x, 0, z), the cone's (x, (1 − y)/4, z).
-    /// Zero on flat faces.
-    pub fn normal_change<S: Scalar>(self, q: Vec3<S>) -> Vec3<S> {
-        match self {
-            Shape::Sphere => q,
-            Shape::Cylinder => Vec3::new(q.x, S::ZERO, q.z),
-            Shape::Cone => Vec3::new(q.x, q.y.mul(S::from_q15(-8192)), q.z),
-            Shape::Plane | Shape::Cube => Vec3::ZERO,
-        }
-    }
-
     /// The nearest hit with `t_min < t < t_max` of the ray `o + t d`.
     ///
     /// For bounded shapes `d` must be a unit vector and `o` near the shape (see
@@ -270,7 +257,6 @@ fn cube<S: Scalar>(
 /// which [`cube`]'s flag in object units does not scale with (a shadow ray
 /// at a slope of 5e-3 to a face: 5e-3 of t). Cold: a shadow ray's retakes
 /// only (`Object::blocks`), never on the micro:bit.
-#[cfg(not(feature = "no-exact-retakes"))]
 #[cold]
 #[inline(never)]
 pub(crate) fn cube_crossed_slowly<S: Scalar>(o: Vec3<S>, d: Vec3<S>) -> bool {
