@@ -8,7 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
-use lensray::unstable::sampler::Sampler;
+use lensray::Sampler;
 use lensray::{Scalar, Scene, I16F16};
 
 use crate::{decode_image, encode, render_image_counted, write_atomic, Diff, Format, Image};

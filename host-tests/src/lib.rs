@@ -13,6 +13,7 @@ use lensray::{Renderer, Scalar, Scene};
 use rayon::prelude::*;
 
 pub mod convergence;
+pub mod mat34;
 pub mod panel;
 pub mod passes;
 pub mod reference64;
@@ -36,41 +37,6 @@ pub fn render_image<S: Scalar + Send + Sync>(
     on_row: &(dyn Fn() + Sync),
 ) -> Image {
     render_image_counted(scene, width, height, samples, on_row).0
-}
-
-/// [`render_image`] before the scanline filter, every pixel as
-/// [`Renderer::pixel`] has it, without fixes 16 to 18's exact retakes
-/// (`Scene::set_exact_retakes(false)`) and without the terminator filter
-/// (`Scene::set_terminator_filter(false)`) and without the rim pull
-/// (`Scene::set_rim_pull(false)`): what the micro:bit's build
-/// (features `no-scanline-filter`, `no-spare-floor`, `no-exact-retakes`,
-/// `no-terminator-filter` and `no-rim-pull`)
-/// draws of a frame without a survey (`point` under 10, or too small), such
-/// as its tests' frames.
-pub fn render_image_as_microbit<S: Scalar + Send + Sync>(
-    scene: &Scene<S>,
-    width: u32,
-    height: u32,
-    samples: Option<u32>,
-) -> Image {
-    let mut scene = scene.clone();
-    scene.set_exact_retakes(false);
-    scene.set_terminator_filter(false);
-    scene.set_rim_pull(false);
-    // No gaps: the micro:bit has no filter and takes no gap survey.
-    let renderer = Renderer::new_with_samples(&scene, width, height, samples).without_gaps();
-    let mut pixels = vec![Rgb888::BLACK; width as usize * height as usize];
-    if width > 0 {
-        pixels
-            .par_chunks_mut(width as usize)
-            .enumerate()
-            .for_each(|(row, out)| {
-                for (col, px) in out.iter_mut().enumerate() {
-                    *px = renderer.pixel(col as u32, row as u32);
-                }
-            });
-    }
-    Image { width, height, pixels }
 }
 
 /// [`render_image`], and the lens rays it cast in all (one a pixel for a pinhole).
@@ -100,7 +66,8 @@ pub fn render_image_counted<S: Scalar + Send + Sync>(
             .sum();
     }
     // The adaptive survey's rays (set-up) count too.
-    (Image { width, height, pixels }, rays + renderer.adaptive_cap().1 as u64)
+    let survey = renderer.stop_rule().map_or(0, |s| s.survey_rays as u64);
+    (Image { width, height, pixels }, rays + survey)
 }
 
 /// Encodes a 24-bit uncompressed BMP (bottom-up rows, padded to 4 bytes).

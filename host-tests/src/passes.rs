@@ -29,7 +29,7 @@ pub fn render_passes<S: Scalar + Send + Sync>(
 ) -> (Image, u64) {
     let renderer = Renderer::new_with_samples(scene, width, height, samples);
     let mut img = Image::filled(width, height, Rgb888::BLACK);
-    let mut rays = renderer.adaptive_cap().1 as u64;
+    let mut rays = renderer.stop_rule().map_or(0, |s| s.survey_rays as u64);
     for (i, pass) in Schedule::new(first_step, preview_samples, renderer.rays_per_pixel()).enumerate() {
         let step = pass.step.max(1);
         let bands: Vec<(Band, u64)> = (0..height)

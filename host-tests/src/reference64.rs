@@ -5,9 +5,8 @@
 //! Q16.16 and f32 disagree, and by how much the pixel's decisions clear
 //! their boundaries (the `margin`s, in object-space units).
 
-use lensray::unstable::camera::{basis, CameraParams};
-use lensray::unstable::scene::{DEFAULT_MATERIAL, MATERIALS};
-use lensray::unstable::transform::Mat34;
+use crate::mat34::Mat34;
+use lensray::{CameraParams, DEFAULT_MATERIAL, MATERIALS};
 use lensray::{Scene, Shape};
 
 type V = [f64; 3];
@@ -369,7 +368,7 @@ impl Scene64 {
             background: [0.0; 3],
             shadows: false,
         };
-        let num = |x: &str| lensray::unstable::parse::parse_decimal(x).expect("a number");
+        let num = |x: &str| x.parse::<f64>().expect("a number");
         for line in text.lines() {
             let line = line.split('#').next().unwrap_or("");
             let w: Vec<&str> = line.split_whitespace().collect();
@@ -426,10 +425,30 @@ impl Scene64 {
         s
     }
 
-    /// The unit direction of pixel (`col`, `row`)'s chief ray at `cols` × `rows`.
+    /// The camera's frame (u, v, n) of the scene format's section 3, in f64:
+/// n = −look/|look|, u = up × n normalised, v = n × u; `None` where `look`
+/// is zero or parallel to `up`.
+fn basis(p: &CameraParams) -> Option<[[f64; 3]; 3]> {
+    let norm = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    let cross = |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    let l = norm(p.look);
+    if l == 0.0 {
+        return None;
+    }
+    let n = p.look.map(|x| -x / l);
+    let c = cross(p.up, n);
+    let lc = norm(c);
+    if lc < 1e-9 * norm(p.up) {
+        return None;
+    }
+    let u = c.map(|x| x / lc);
+    Some([u, cross(n, u), n])
+}
+
+/// The unit direction of pixel (`col`, `row`)'s chief ray at `cols` × `rows`.
     pub fn chief_dir(&self, col: u32, row: u32, cols: u32, rows: u32) -> V {
         let p = &self.camera;
-        let [u, v, n] = basis(p).expect("basis");
+        let [u, v, n] = Self::basis(p).expect("basis");
         let pitch = p.width / cols as f64;
         let (hw, hh) = (p.width / 2.0, pitch * rows as f64 / 2.0);
         let (ci, cj) = ((2 * col + 1) as f64, (2 * row + 1) as f64);
@@ -444,7 +463,7 @@ impl Scene64 {
     pub fn lens_cut_by(&self) -> Vec<usize> {
         let c = &self.camera;
         let mut cut = Vec::new();
-        let Some([u, v, _]) = basis(c).filter(|_| c.radius > 0.0) else {
+        let Some([u, v, _]) = Self::basis(c).filter(|_| c.radius > 0.0) else {
             return cut;
         };
         for k in 0..64 {

@@ -5,7 +5,7 @@ use embedded_graphics::mono_font::{ascii::FONT_6X10, MonoTextStyle};
 use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::*;
 use embedded_graphics::text::{Baseline, Text};
-use lensray::unstable::scene::CameraParams;
+use lensray::CameraParams;
 
 use crate::Image;
 

@@ -76,13 +76,20 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     ///
     /// Never: any scene [`Scene::parse`] accepts and any size.
     pub fn new(scene: &'a Scene<S>, cols: u32, rows: u32) -> Self {
+        Self::new_with_samples(scene, cols, rows, None)
+    }
+
+    /// [`Renderer::new`] with `samples` lens samples a pixel (clamped to
+    /// 1..=65535) in place of the scene's `point` where given: one pre-pass,
+    /// where `Renderer::new(..).with_samples(n)` runs two.
+    pub fn new_with_samples(scene: &'a Scene<S>, cols: u32, rows: u32, samples: Option<u32>) -> Self {
         let camera = Camera::new(&scene.camera, cols, rows);
         let r = Renderer {
             scene,
             camera,
             cones: LensCones::new(scene, scene.camera.lens_position, scene.camera.radius),
             defocus: Defocus::new(scene),
-            samples: scene.camera.samples.clamp(1, 65535),
+            samples: samples.unwrap_or(scene.camera.samples).clamp(1, 65535),
             sampler: scene.camera.sampler,
             stop: None,
         };

@@ -87,8 +87,8 @@ pub(crate) fn apply_to_scene<S: Scalar>(o: &Sampling, scene: &mut Scene<S>) {
     }
     if let Some(s) = o.sampler {
         scene.camera.sampler = match s {
-            SamplerName::Independent => lensray::unstable::sampler::Sampler::Independent,
-            SamplerName::Stratified => lensray::unstable::sampler::Sampler::Stratified,
+            SamplerName::Independent => lensray::Sampler::Independent,
+            SamplerName::Stratified => lensray::Sampler::Stratified,
         };
     }
 }

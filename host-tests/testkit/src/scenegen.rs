@@ -291,7 +291,7 @@ impl Gen {
     /// The value a number parses to: what the renderer will see.
     fn exact(&mut self, x: f64) -> f64 {
         let s = self.num(x);
-        lensray::unstable::parse::parse_decimal(&s).unwrap_or(0.0)
+        s.parse::<f64>().unwrap_or(0.0)
     }
 
     /// Uniform in [lo, hi), as written.
@@ -756,7 +756,7 @@ fn last_value(text: &str, keyword: &str) -> Option<f64> {
             let mut w = l.split([' ', '\t']).filter(|w| !w.is_empty());
             (w.next() == Some(keyword)).then(|| w.next()).flatten()
         })
-        .filter_map(lensray::unstable::parse::parse_decimal)
+        .filter_map(|w| w.parse::<f64>().ok())
         .next_back()
 }
 
