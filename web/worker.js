@@ -54,9 +54,11 @@ function image(number) {
 // Renders every pass in `number`; posts frames when `show`. Returns false
 // when a newer request cancelled it.
 async function renderAll(id, number, show) {
-  const passes = wasm.lr_setup(size.width, size.height, FIRST_STEP, PREVIEW_SAMPLES);
+  // The frame's time includes its set-up (lr_setup runs the adaptive
+  // pre-pass of both number types), its rays this type's pre-pass's.
   const t0 = performance.now();
-  let rays = 0;
+  const passes = wasm.lr_setup(size.width, size.height, FIRST_STEP, PREVIEW_SAMPLES);
+  let rays = wasm.lr_survey_rays(number);
   for (let p = 0; p < passes; p++) {
     const rows = wasm.lr_pass_rows(p);
     let g = 0;

@@ -8,6 +8,8 @@
 //   other presets with a lens and of random scenes, at points chosen by rule
 //   from the page's object and depth pass: the clicked object is the
 //   sharpest (the least blur radius, against the all-sharp pinhole picture).
+// - The rays shown for a frame are the host's count (the adaptive
+//   pre-pass's included) plus the preview's.
 // - The camera controls write their keywords; the picture is then the
 //   host's render of the text in the editor.
 // - A typed error: its line is marked with the parser's message.
@@ -83,11 +85,14 @@ function decodePng(buf) {
   return { width, height, rgb: out };
 }
 
+// The host's render, and its rays a pixel (the adaptive pre-pass's
+// included), as it prints them: to 2 decimals.
 function hostRender(scenePath, w, h, float) {
   const out = path.join(tmp, `host-${path.basename(scenePath)}-${float ? 'f32' : 'fixed'}-${w}x${h}.png`);
-  execFileSync(host, ['render', scenePath, '--width', String(w), '--height', String(h), ...(float ? ['--float'] : []), '-o', out],
-    { stdio: ['ignore', 'ignore', 'pipe'] });
-  return decodePng(fs.readFileSync(out));
+  const said = execFileSync(host, ['render', scenePath, '--width', String(w), '--height', String(h), ...(float ? ['--float'] : []), '-o', out],
+    { stdio: ['ignore', 'pipe', 'pipe'], encoding: 'utf8' });
+  const raysPerPixel = Number(said.match(/^rays per pixel: (\S+)$/m)?.[1]);
+  return { ...decodePng(fs.readFileSync(out)), raysPerPixel };
 }
 
 const b64url = (s) => Buffer.from(s, 'utf8').toString('base64url');
@@ -164,6 +169,17 @@ test('a link reopens the same picture, and the heat map gives the PSNR of the tw
   for (let i = 0; i < a.rgb.length; i++) se += (a.rgb[i] - b.rgb[i]) ** 2;
   const want = se === 0 ? Infinity : 10 * Math.log10((255 * 255) / (se / a.rgb.length));
   assert.ok(Math.abs(psnr - want) < 1e-9 || psnr === want, `page PSNR ${psnr} vs host images ${want}`);
+  // The rays shown are the frame's: the preview's (8 x 5 blocks of 8 at one
+  // ray), the pixels' and the adaptive pre-pass's (thousands of rays here,
+  // well beyond the host's rounding to 1/100 a pixel).
+  const shownRays = async () => {
+    const t = await page.evaluate(() => window.lensray.timings);
+    assert.equal(Number((await page.textContent('#rays')).replace(/,/g, '')), t.rays, 'the rays shown');
+    return t.rays;
+  };
+  const raysMatch = (got, host, what) => assert.ok(Math.abs(got - 40 - host.raysPerPixel * 64 * 40) <= 0.005 * 64 * 40 + 1e-6,
+    `${what}: page ${got} rays, host ${host.raysPerPixel} a pixel at 64x40 (and 40 preview rays)`);
+  raysMatch(await shownRays(), a, 'Q16.16');
   // The page's own link, opened anew, gives the same pixels.
   const link = await page.getAttribute('#link', 'href');
   const first = await pageImage(page);
@@ -172,6 +188,7 @@ test('a link reopens the same picture, and the heat map gives the PSNR of the tw
   await again.close();
   // In f32 the link says so, and reopens in f32.
   await rendered(page, () => page.selectOption('#number', 'f32'));
+  raysMatch(await shownRays(), b, 'f32');
   const floatLink = await page.getAttribute('#link', 'href');
   assert.match(floatLink, /^#scene=[A-Za-z0-9_-]+&number=f32&width=64&height=40$/);
   const floatPage = await openLink(floatLink);

@@ -11,8 +11,10 @@
 //! query: the depth of what the pixel's chief ray meets first.
 //!
 //! [`lr_setup`] builds one renderer per number type and keeps it until the
-//! next parse or set-up: its set-up (the adaptive survey of the frame) costs
-//! as much as many rows, and the page calls in a row or a pixel at a time.
+//! next parse or set-up: its set-up (the adaptive pre-pass that sets the
+//! frame's stop rule) costs as much as many rows, and the page calls in a
+//! row or a pixel at a time. The frame's rays are what [`lr_render`] returns
+//! plus that pre-pass's, [`lr_survey_rays`].
 //!
 //! Number types are selected by an integer: 0 is Q16.16, 1 is `f32`.
 //! Every function is total: bad indices or a missing scene return 0, -1 or
@@ -26,7 +28,6 @@ use embedded_graphics_core::geometry::{OriginDimensions, Size};
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use embedded_graphics_core::Pixel;
 use lensray::progressive::{self, Pass, Schedule};
-use lensray::CameraSample;
 use lensray::{Renderer, Scalar, Scene, I16F16};
 
 /// Q16.16, the fixed-point renderer.
@@ -230,6 +231,25 @@ pub extern "C" fn lr_pass_rows(i: u32) -> u32 {
     with(|s| s.passes.get(i as usize).map_or(0, |p| s.height.div_ceil(p.step.max(1))))
 }
 
+/// Rays the pre-pass of number type `number`'s renderer cast (set up by
+/// [`lr_setup`]) to set the frame's adaptive stop rule: part of the frame's
+/// rays, with what [`lr_render`] returns. 0 without a stop rule (adaptive
+/// sampling off, a pinhole, too few samples), a bad number or no scene.
+#[no_mangle]
+pub extern "C" fn lr_survey_rays(number: u32) -> f64 {
+    fn survey<S: Scalar>(loaded: Option<&Loaded<S>>) -> f64 {
+        loaded
+            .and_then(Loaded::renderer)
+            .and_then(Renderer::stop_rule)
+            .map_or(0.0, |s| s.survey_rays as f64)
+    }
+    with(|s| match number {
+        NUMBER_FIXED => survey(s.fixed.as_ref()),
+        NUMBER_FLOAT => survey(s.float.as_ref()),
+        _ => 0.0,
+    })
+}
+
 /// Renders grid rows `first .. end` of pass `i` in number type `number` into
 /// its image. Returns the lens rays its pixels cast (with adaptive sampling,
 /// what they took), 0 for an empty range, a bad pass or no scene.
@@ -309,20 +329,30 @@ fn hit_at<S: Scalar>(loaded: &Loaded<S>, col: u32, row: u32) -> (u32, f64) {
     let (scene, Some(renderer)) = (loaded.scene(), loaded.renderer()) else {
         return (0, f64::NAN);
     };
-    let cam = renderer.camera();
-    if col >= cam.cols() || row >= cam.rows() {
+    let (cols, rows) = renderer.size();
+    if col >= cols || row >= rows {
         return (0, f64::NAN);
     }
-    let ray = cam.generate_ray(&CameraSample {
-        film: &cam.film_point(col, row),
-        lens: None,
-    });
-    let Some((i, hit)) = scene.closest_hit_camera_ray(&ray, renderer.cones()) else {
+    let ray = renderer.camera_ray(col, row, None);
+    let Some((i, t)) = renderer.hit(&ray) else {
         return (0, f64::NAN);
     };
-    let (o, d, t) = (ray.origin.to_array(), ray.dir.to_array(), hit.t.to_f64());
-    let p = [0, 1, 2].map(|k| o[k].to_f64() + t * d[k].to_f64());
-    (i as u32 + 1, lensray::unstable::autofocus::depth(&scene.camera, p))
+    let (o, d, t) = (ray.origin.to_f64(), ray.dir.to_f64(), t.to_f64());
+    let p = [0, 1, 2].map(|k| o[k] + t * d[k]);
+    (i as u32 + 1, depth(&scene.camera, p))
+}
+
+/// Depth of world point `p`: its distance from the lens centre along the
+/// unit viewing direction, `(p − lens_position) · look / |look|` (negative
+/// behind the lens; 0 for a zero `look`). What `focus_distance` takes to put
+/// `p` in focus, as the library's `focus_on` measures it.
+fn depth(camera: &lensray::CameraParams, p: [f64; 3]) -> f64 {
+    let (l, e) = (camera.look, camera.lens_position);
+    let len = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
+    if len == 0.0 {
+        return 0.0;
+    }
+    ((p[0] - e[0]) * l[0] + (p[1] - e[1]) * l[1] + (p[2] - e[2]) * l[2]) / len
 }
 
 /// The parsed scene's camera, for the page's controls: 0 focus distance
@@ -471,7 +501,21 @@ mod tests {
         let mut row = vec![Rgb888::BLACK; w as usize];
         let plain: u32 = (0..h).map(|y| r.render_row(y, &mut row)).sum();
         assert_eq!(lr_render(NUMBER_FIXED, 0, 0, h), plain as f64);
-        assert!(plain < w * h * 40, "{plain} rays: fewer than `point` a pixel");
+        let survey = r.stop_rule().expect("a stop rule at 40 samples").survey_rays;
+        assert!(survey > 0);
+        assert_eq!(lr_survey_rays(NUMBER_FIXED), survey as f64, "the pre-pass's rays");
+        let float = Scene::<f32>::parse(&text).unwrap();
+        let f = Renderer::new(&float, w, h).stop_rule().unwrap().survey_rays;
+        assert_eq!(lr_survey_rays(NUMBER_FLOAT), f as f64);
+        assert!(
+            plain + survey < w * h * 40,
+            "{plain} + {survey} rays: fewer than `point` a pixel"
+        );
+        // Without adaptive sampling there is no pre-pass.
+        assert_eq!(load(&(text + "adaptive off\n")), 0);
+        lr_setup(w, h, 1, 0);
+        assert_eq!(lr_survey_rays(NUMBER_FIXED), 0.0);
+        assert_eq!(lr_survey_rays(2), 0.0, "no such number type");
     }
 
     #[test]
