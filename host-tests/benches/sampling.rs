@@ -1,20 +1,26 @@
-//! Lens sampling against converged references: PSNR as a function of mean
-//! rays a pixel, independent against stratified samples, and the default
-//! render (stratified, adaptive), for every lens scene in `scenes/` (and the
-//! generator's lens scenes in `LENSRAY_SAMPLING_EXTRA`, a folder of `.scene`
-//! files, when set).
+//! Lens sampling against converged references: the adaptive sampler's
+//! floors (issue 53) as distributions, and PSNR against mean rays a pixel.
 //!
 //! ```sh
 //! cargo bench -p lensray-host --bench sampling
 //! ```
 //!
-//! Writes a Markdown section to `target/sampling.md` (or `LENSRAY_SAMPLING_OUT`)
-//! and the plot to `docs/sampling.png` (or `LENSRAY_SAMPLING_PLOT`). Size
-//! `LENSRAY_SAMPLING_WIDTH` (320; height from 4:3), reference samples
-//! `LENSRAY_SAMPLING_GENERATED` (4): how many of the scene generator's lens
-//! scenes (seeds 1..), each also at `point 70`; `LENSRAY_SAMPLING_SCENES`: the
-//! folder instead of `scenes/`. `LENSRAY_SAMPLING_REFERENCE` (2048, stratified f32; cached under
-//! `target/converged/`), checked against a reference of a quarter the samples.
+//! The set: every lens scene in `scenes/` and `host-tests/extra-scenes/`,
+//! and `LENSRAY_SAMPLING_GENERATED` (40) lens scenes of the scene generator
+//! from seed `LENSRAY_SAMPLING_FIRST_SEED` (1) on. For each, at
+//! `LENSRAY_SAMPLING_WIDTH` (320; height 3/4 of it), in Q16.16, against a
+//! converged reference (`LENSRAY_SAMPLING_REFERENCE`, 2048 stratified f32
+//! samples, cached under `target/converged/`):
+//!
+//! * the default render (stratified, adaptive): PSNR and mean rays a pixel,
+//!   the pre-pass's included;
+//! * `point` independent samples in every pixel;
+//! * plain stratified samples at the default's mean rays (rounded up) in
+//!   every pixel.
+//!
+//! Writes Markdown to `target/sampling.md` (or `LENSRAY_SAMPLING_OUT`) and,
+//! for the scenes of `scenes/`, the curves to `docs/sampling.png` (or
+//! `LENSRAY_SAMPLING_PLOT`; `LENSRAY_SAMPLING_PLOT=` skips them).
 
 use std::path::{Path, PathBuf};
 
@@ -23,10 +29,10 @@ use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::{Circle, Line, PrimitiveStyle, Rectangle};
 use embedded_graphics::text::Text;
-use lensray::unstable::sampler::Sampler;
-use lensray::Scene;
+use lensray::{Sampler, Scene};
 use lensray_host::convergence::{measure, psnr_axis, reference, Point as Quality, Setting};
 use lensray_host::{encode, write_atomic, Diff, Format, Image};
+use rayon::prelude::*;
 
 /// Sample counts of the curves (each scene's own `point` is added).
 const COUNTS: [u32; 7] = [4, 8, 16, 32, 64, 128, 256];
@@ -34,29 +40,44 @@ const COUNTS: [u32; 7] = [4, 8, 16, 32, 64, 128, 256];
 struct Row {
     name: String,
     point: u32,
-    independent: Vec<(u32, Quality)>,
-    stratified: Vec<(u32, Quality)>,
     default: Quality,
+    independent: Quality,
+    stratified: Quality,
     converged: f64,
+    curves: Option<[Vec<(u32, Quality)>; 2]>,
+}
+
+impl Row {
+    fn share(&self) -> f64 {
+        self.default.rays / self.point as f64
+    }
+    /// Default minus `other`, dB; 0 where both are exact.
+    fn margin(&self, other: Quality) -> f64 {
+        if self.default.psnr.is_infinite() && other.psnr.is_infinite() {
+            0.0
+        } else {
+            self.default.psnr - other.psnr
+        }
+    }
 }
 
 fn env_u32(key: &str, default: u32) -> u32 {
     std::env::var(key).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
 }
 
-fn lens_scenes(dir: &Path) -> Vec<PathBuf> {
+fn lens_scenes(dir: &Path) -> Vec<(String, String)> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
         .map(|d| d.filter_map(|e| Some(e.ok()?.path())).collect())
         .unwrap_or_default();
     v.retain(|p| p.extension().is_some_and(|e| e == "scene"));
     v.sort();
-    v.retain(|p| {
-        std::fs::read_to_string(p)
-            .ok()
-            .and_then(|t| Scene::<f32>::parse(&t).ok())
-            .is_some_and(|s| s.camera.radius > 0.0)
-    });
-    v
+    v.into_iter()
+        .filter_map(|p| {
+            let text = std::fs::read_to_string(&p).ok()?;
+            let lens = Scene::<f32>::parse(&text).ok()?.camera.radius > 0.0;
+            lens.then(|| (p.file_name().unwrap().to_string_lossy().into_owned(), text))
+        })
+        .collect()
 }
 
 fn main() {
@@ -64,204 +85,170 @@ fn main() {
     let w = env_u32("LENSRAY_SAMPLING_WIDTH", 320);
     let h = w * 3 / 4;
     let ref_n = env_u32("LENSRAY_SAMPLING_REFERENCE", 2048);
-    let dir = std::env::var_os("LENSRAY_SAMPLING_SCENES").map_or(root.join("scenes"), PathBuf::from);
-    let mut scenes = lens_scenes(&dir);
-    // Lens scenes kept out of the web page's presets (host-tests/extra-scenes/).
-    scenes.extend(lens_scenes(&root.join("host-tests/extra-scenes")));
-    if let Some(extra) = std::env::var_os("LENSRAY_SAMPLING_EXTRA") {
-        scenes.extend(lens_scenes(Path::new(&extra)));
+    let mut named = lens_scenes(&root.join("scenes"));
+    let curved = named.len();
+    named.extend(lens_scenes(&root.join("host-tests/extra-scenes")));
+    let first = env_u32("LENSRAY_SAMPLING_FIRST_SEED", 1) as u64;
+    for seed in first..first + env_u32("LENSRAY_SAMPLING_GENERATED", 40) as u64 {
+        named.push((format!("generated-lens-{seed}"), lensray_testkit::scenegen::generate_lens(seed)));
     }
-    let mut named: Vec<(String, String)> = scenes
+    let rows: Vec<Row> = named
         .iter()
-        .map(|p| {
-            let name = p.file_name().unwrap().to_string_lossy().into_owned();
-            (name, std::fs::read_to_string(p).unwrap())
-        })
+        .enumerate()
+        .map(|(i, (name, text))| row(name, text, (w, h), ref_n, i < curved))
         .collect();
-    // The random scene generator's lens scenes (host-tests/testkit/src/scenegen.rs), as
-    // generated (their `point` is 1 to 64) and at `point 70`.
-    for seed in 1..=env_u32("LENSRAY_SAMPLING_GENERATED", 4) as u64 {
-        let text = lensray_testkit::scenegen::generate_lens(seed);
-        named.push((format!("generated-lens-{seed}"), text.clone()));
-        named.push((format!("generated-lens-{seed}@70"), text + "\npoint 70\n"));
+    let md = markdown(&rows, w, h, ref_n);
+    println!("{md}");
+    let out = std::env::var_os("LENSRAY_SAMPLING_OUT").map_or_else(|| root.join("target/sampling.md"), PathBuf::from);
+    write_atomic(&out, md.as_bytes()).unwrap();
+    let plot_path = std::env::var_os("LENSRAY_SAMPLING_PLOT").map_or_else(|| root.join("docs/sampling.png"), PathBuf::from);
+    if !plot_path.as_os_str().is_empty() {
+        let with: Vec<&Row> = rows.iter().filter(|r| r.curves.is_some()).collect();
+        write_atomic(&plot_path, &encode(&plot(&with, w, h), Format::Png).unwrap()).unwrap();
+        eprintln!("wrote {}", plot_path.display());
     }
-    let mut rows = Vec::new();
-    for (name, text) in named {
-        let point = Scene::<f32>::parse(&text).unwrap().camera.samples;
-        eprintln!("{name}: references ({ref_n} and {} samples, f32, {w}x{h})", ref_n / 4);
-        let truth = reference(&text, w, h, ref_n, Sampler::Stratified).unwrap();
-        let quarter = reference(&text, w, h, ref_n / 4, Sampler::Stratified).unwrap();
-        let converged = Diff::of(&truth, &quarter).unwrap().psnr;
+    eprintln!("wrote {}", out.display());
+}
+
+/// One scene's measurements (and its curves where `curves`).
+fn row(name: &str, text: &str, (w, h): (u32, u32), ref_n: u32, curves: bool) -> Row {
+    let point = Scene::<f32>::parse(text).unwrap().camera.samples;
+    let truth = reference(text, w, h, ref_n, Sampler::Stratified).unwrap();
+    let quarter = reference(text, w, h, ref_n / 4, Sampler::Stratified).unwrap();
+    let converged = Diff::of(&truth, &quarter).unwrap().psnr;
+    let default = measure(text, &truth, Setting::default_render(point)).unwrap();
+    let independent = measure(text, &truth, Setting::independent(point)).unwrap();
+    let plain = Setting {
+        samples: (default.rays.ceil() as u32).clamp(1, point),
+        sampler: Sampler::Stratified,
+        adaptive: false,
+    };
+    let stratified = measure(text, &truth, plain).unwrap();
+    let curves = curves.then(|| {
         let mut counts: Vec<u32> = COUNTS.iter().copied().filter(|&c| c < point).collect();
         counts.push(point);
-        let curve = |sampler| -> Vec<(u32, Quality)> {
+        [Sampler::Independent, Sampler::Stratified].map(|sampler| {
             counts
-                .iter()
+                .par_iter()
                 .map(|&samples| {
                     let s = Setting {
                         samples,
                         sampler,
                         adaptive: false,
                     };
-                    (samples, measure(&text, &truth, s).unwrap())
+                    (samples, measure(text, &truth, s).unwrap())
                 })
                 .collect()
-        };
-        let independent = curve(Sampler::Independent);
-        let stratified = curve(Sampler::Stratified);
-        let default = measure(&text, &truth, Setting::default_render(point)).unwrap();
-        eprintln!(
-            "{name}: independent {point}: {:.2} dB, stratified {point}: {:.2} dB, default {:.2} dB at {:.1} rays",
-            independent.last().unwrap().1.psnr,
-            stratified.last().unwrap().1.psnr,
-            default.psnr,
-            default.rays
-        );
-        rows.push(Row {
-            name,
-            point,
-            independent,
-            stratified,
-            default,
-            converged,
-        });
-    }
-    let md = markdown(&rows, w, h, ref_n);
-    println!("{md}");
-    let out = std::env::var_os("LENSRAY_SAMPLING_OUT")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root.join("target/sampling.md"));
-    write_atomic(&out, md.as_bytes()).unwrap();
-    let plot_path = std::env::var_os("LENSRAY_SAMPLING_PLOT")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root.join("docs/sampling.png"));
-    write_atomic(&plot_path, &encode(&plot(&rows, w, h), Format::Png).unwrap()).unwrap();
-    eprintln!("wrote {} and {}", out.display(), plot_path.display());
+        })
+    });
+    let r = Row {
+        name: name.to_string(),
+        point,
+        default,
+        independent,
+        stratified,
+        converged,
+        curves,
+    };
+    eprintln!(
+        "{name} (point {point}): default {:.2} dB at {:.1} rays ({:.1} %), independent {:+.2} dB, stratified {:+.2} dB",
+        default.psnr,
+        default.rays,
+        100.0 * r.share(),
+        r.margin(independent),
+        r.margin(stratified)
+    );
+    r
+}
+
+/// Min, median and max.
+fn spread(mut v: Vec<f64>) -> (f64, f64, f64) {
+    v.sort_by(f64::total_cmp);
+    let mid = if v.len() % 2 == 1 {
+        v[v.len() / 2]
+    } else {
+        (v[v.len() / 2 - 1] + v[v.len() / 2]) / 2.0
+    };
+    (v[0], mid, v[v.len() - 1])
 }
 
 fn markdown(rows: &[Row], w: u32, h: u32, ref_n: u32) -> String {
-    let mut s = String::new();
-    let cols: Vec<String> = COUNTS.iter().map(|c| format!("{c}")).collect();
-    s += &format!(
-        "PSNR (dB) of the Q16.16 render against a converged reference (the same scene\n\
-         at {ref_n} stratified lens samples, f32, {w}x{h}), by lens samples a pixel\n\
-         (every pixel casts them all: adaptive sampling off); *point* is the scene's\n\
-         own `point`. *Default* is the render as the scene is written (stratified,\n\
-         adaptive): its PSNR and mean rays a pixel. *Converged* is the reference\n\
-         against one of a quarter the samples: far above every render, so the\n\
-         reference's own noise does not limit the figures.\n\n"
+    let mut s = format!(
+        "Against converged references ({ref_n} stratified f32 samples, {w}x{h}); renders in Q16.16.\n\
+         *Rays*: the default render's mean rays a pixel (the pre-pass's included) and their share\n\
+         of `point`. *vs independent*: its PSNR less that of `point` independent samples.\n\
+         *vs stratified*: less that of plain stratified samples at its mean rays (rounded up).\n\n\
+         | scene (point) | default PSNR | rays (share) | vs independent | vs stratified | converged |\n\
+         |---|---|---|---|---|---|\n"
     );
+    for r in rows {
+        s += &format!(
+            "| `{}` ({}) | {:.2} dB | {:.1} ({:.1} %) | {:+.2} dB | {:+.2} dB | {:.0} dB |\n",
+            r.name,
+            r.point,
+            r.default.psnr,
+            r.default.rays,
+            100.0 * r.share(),
+            r.margin(r.independent),
+            r.margin(r.stratified),
+            r.converged
+        );
+    }
+    let dist = |f: &dyn Fn(&Row) -> f64| spread(rows.iter().map(f).collect());
+    let share = dist(&|r| 100.0 * r.share());
+    let ind = dist(&|r| r.margin(r.independent));
+    let strat = dist(&|r| r.margin(r.stratified));
     s += &format!(
-        "| scene (point) | sampler | {} | point | default: PSNR, rays (share of point) | floor: PSNR >= independent at point, rays <= 40 % | converged |\n",
-        cols.join(" | ")
+        "\nOver the {} scenes (min / median / max):\n\n\
+         | measure | min | median | max | floor |\n|---|---|---|---|---|\n\
+         | rays, share of `point` | {:.1} % | {:.1} % | {:.1} % | median at most 40 % |\n\
+         | PSNR less `point` independent samples | {:+.2} dB | {:+.2} dB | {:+.2} dB | median at least 0 |\n\
+         | PSNR less plain stratified at the same rays | {:+.2} dB | {:+.2} dB | {:+.2} dB | median at least +2.0, min at least -0.5 |\n",
+        rows.len(),
+        share.0,
+        share.1,
+        share.2,
+        ind.0,
+        ind.1,
+        ind.2,
+        strat.0,
+        strat.1,
+        strat.2
     );
-    s += &format!("|---|---|{}---|---|---|---|\n", "---|".repeat(COUNTS.len()));
-    for r in rows {
-        let cell = |curve: &[(u32, Quality)], c: u32| {
-            curve
-                .iter()
-                .find(|(n, _)| *n == c)
-                .map_or("".to_string(), |(_, p)| format!("{:.1}", p.psnr))
-        };
-        let ind_point = r.independent.last().unwrap().1.psnr;
-        let share = r.default.rays / r.point as f64;
-        let met = r.default.psnr >= ind_point && share <= 0.4;
-        for (label, curve) in [("independent", &r.independent), ("stratified", &r.stratified)] {
-            let counts: Vec<String> = COUNTS.iter().map(|&c| cell(curve, c)).collect();
-            let first = label == "independent";
-            s += &format!(
-                "| {} | {label} | {} | {:.1} | {} | {} | {} |\n",
-                if first {
-                    format!("`{}` ({})", r.name, r.point)
-                } else {
-                    String::new()
-                },
-                counts.join(" | "),
-                curve.last().unwrap().1.psnr,
-                if first {
-                    format!(
-                        "{:.1} dB, {:.1} ({:.1} %)",
-                        r.default.psnr,
-                        r.default.rays,
-                        100.0 * share
-                    )
-                } else {
-                    String::new()
-                },
-                if first {
-                    // Both exact: inf - inf would print NaN.
-                    let margin = if r.default.psnr.is_infinite() && ind_point.is_infinite() {
-                        "both exact".to_string()
-                    } else {
-                        format!("{:+.1} dB", r.default.psnr - ind_point)
-                    };
-                    format!("{} ({margin})", if met { "**met**" } else { "**NOT met**" })
-                } else {
-                    String::new()
-                },
-                if first {
-                    format!("{:.1} dB", r.converged)
-                } else {
-                    String::new()
-                },
-            );
-        }
-    }
-    // Rays for the same picture: the stratified count that first matches independent at point.
-    s += "\nRays for today's picture: the fewest stratified samples of the table whose PSNR reaches\n\
-          that of `point` independent samples, and the default render's mean rays:\n\n\
-          | scene | independent at point | stratified, same PSNR | default (adaptive) |\n|---|---|---|---|\n";
-    for r in rows {
-        let target = r.independent.last().unwrap().1.psnr;
-        let same = r
-            .stratified
-            .iter()
-            .find(|(_, p)| p.psnr >= target)
-            .map_or("-".to_string(), |(n, _)| format!("{n}"));
-        s += &format!("| `{}` | {} | {} | {:.1} |\n", r.name, r.point, same, r.default.rays);
-    }
+    let own: Vec<&Row> = rows.iter().filter(|r| r.curves.is_some()).collect();
+    let met = own
+        .iter()
+        .filter(|r| r.share() <= 0.4 && r.margin(r.independent) >= 0.0)
+        .count();
+    s += &format!(
+        "\nScenes of `scenes/` within 40 % of `point` and at least `point` independent samples: {met} of {}.\n",
+        own.len()
+    );
     s
 }
 
 /// One panel a scene: PSNR against log2 of mean rays a pixel.
-fn plot(rows: &[Row], w: u32, h: u32) -> Image {
+fn plot(rows: &[&Row], w: u32, h: u32) -> Image {
     const PW: u32 = 300;
     const PH: u32 = 200;
     let per_row = 3u32;
     let nrows = (rows.len() as u32).div_ceil(per_row).max(1);
     let mut img = Image::filled(PW * per_row, PH * nrows + 30, Rgb888::WHITE);
     let ink = MonoTextStyle::new(&FONT_6X10, Rgb888::BLACK);
-    let grey = Rgb888::new(150, 150, 150);
-    let blue = Rgb888::new(20, 80, 220);
-    let red = Rgb888::new(220, 30, 30);
-    let _ = Text::new(
-        &format!("PSNR (dB) against converged references vs mean rays a pixel (log scale), {w}x{h}, Q16.16"),
-        Point::new(8, 12),
-        ink,
-    )
-    .draw(&mut img);
-    let _ = Text::new(
-        "grey: independent, blue: stratified, red dot: default (stratified, adaptive)",
-        Point::new(8, 24),
-        ink,
-    )
-    .draw(&mut img);
+    let (grey, blue, red) = (Rgb888::new(150, 150, 150), Rgb888::new(20, 80, 220), Rgb888::new(220, 30, 30));
+    let title = format!("PSNR (dB) against converged references vs mean rays a pixel (log scale), {w}x{h}, Q16.16");
+    let _ = Text::new(&title, Point::new(8, 12), ink).draw(&mut img);
+    let legend = "grey: independent, blue: stratified, red dot: default (stratified, adaptive)";
+    let _ = Text::new(legend, Point::new(8, 24), ink).draw(&mut img);
     for (i, r) in rows.iter().enumerate() {
+        let Some(curves) = &r.curves else { continue };
         let (ox, oy) = ((i as u32 % per_row * PW) as i32, (30 + i as u32 / per_row * PH) as i32);
         let (l, t, pw, ph) = (ox + 34, oy + 18, PW as i32 - 46, PH as i32 - 44);
-        let psnrs: Vec<f64> = r
-            .independent
-            .iter()
-            .chain(&r.stratified)
-            .map(|x| x.1.psnr)
-            .chain([r.default.psnr])
-            .collect();
+        let psnrs: Vec<f64> = curves.iter().flatten().map(|x| x.1.psnr).chain([r.default.psnr]).collect();
         let axis = psnr_axis(psnrs.iter().copied());
-        // From 4 rays, or fewer where the default cast fewer (`point` 6 casts 2.2):
-        // a dot left of the axis was drawn in the panel beside.
         let x_lo = r.default.rays.max(1.0).log2().floor().min(2.0);
         let x_hi = (r.point.max(4) as f64).log2().ceil();
-        // An exact render (infinite PSNR) sits on the top edge, labelled "exact".
+        // An exact render (infinite PSNR) sits on the top edge.
         let at = |p: Quality| {
             let x = l + ((p.rays.log2() - x_lo) / (x_hi - x_lo) * pw as f64) as i32;
             let y = match axis {
@@ -270,27 +257,15 @@ fn plot(rows: &[Row], w: u32, h: u32) -> Image {
             };
             Point::new(x, y)
         };
+        let frame = PrimitiveStyle::with_stroke(Rgb888::BLACK, 1);
         let _ = Rectangle::new(Point::new(l, t), Size::new(pw as u32, ph as u32))
-            .into_styled(PrimitiveStyle::with_stroke(Rgb888::BLACK, 1))
+            .into_styled(frame)
             .draw(&mut img);
-        let _ = Text::new(
-            &format!("{} ({})", r.name.trim_end_matches(".scene"), r.point),
-            Point::new(ox + 6, oy + 12),
-            ink,
-        )
-        .draw(&mut img);
-        match axis {
-            Some((lo, hi)) => {
-                let _ = Text::new(&format!("{hi:.0}"), Point::new(ox + 4, t + 8), ink).draw(&mut img);
-                let _ = Text::new(&format!("{lo:.0}"), Point::new(ox + 4, t + ph), ink).draw(&mut img);
-            }
-            None => {
-                let note = "every render exact (infinite PSNR)";
-                let _ = Text::new(note, Point::new(l + 8, t + ph / 2), ink).draw(&mut img);
-            }
-        }
-        if psnrs.iter().any(|p| p.is_infinite()) {
-            let _ = Text::new("exact", Point::new(l + pw - 34, t + 10), ink).draw(&mut img);
+        let label = format!("{} ({})", r.name.trim_end_matches(".scene"), r.point);
+        let _ = Text::new(&label, Point::new(ox + 6, oy + 12), ink).draw(&mut img);
+        if let Some((lo, hi)) = axis {
+            let _ = Text::new(&format!("{hi:.0}"), Point::new(ox + 4, t + 8), ink).draw(&mut img);
+            let _ = Text::new(&format!("{lo:.0}"), Point::new(ox + 4, t + ph), ink).draw(&mut img);
         }
         let mut k = x_lo as u32;
         while k as f64 <= x_hi {
@@ -298,13 +273,13 @@ fn plot(rows: &[Row], w: u32, h: u32) -> Image {
             let _ = Text::new(&format!("{}", 1u32 << k), Point::new(x - 6, t + ph + 12), ink).draw(&mut img);
             k += 1;
         }
-        for (curve, colour) in [(&r.independent, grey), (&r.stratified, blue)] {
+        for (curve, colour) in curves.iter().zip([grey, blue]) {
             for pair in curve.windows(2) {
                 let _ = Line::new(at(pair[0].1), at(pair[1].1))
                     .into_styled(PrimitiveStyle::with_stroke(colour, 2))
                     .draw(&mut img);
             }
-            for p in curve.iter() {
+            for p in curve {
                 let _ = Circle::with_center(at(p.1), 5)
                     .into_styled(PrimitiveStyle::with_fill(colour))
                     .draw(&mut img);

@@ -31,15 +31,15 @@ use crate::number::Scalar;
 pub const BUDGET_EIGHTHS: u64 = 3;
 
 /// The pilot is about `point` over this (a quality knob): after it, a
-/// pixel has seen the lens at an eighth of the full render's resolution.
-pub const PILOT_DIVISOR: u32 = 8;
+/// pixel has seen the lens at a quarter of the full render's resolution.
+pub const PILOT_DIVISOR: u32 = 4;
 
 /// The smallest pilot: two halves of 2 rays to compare.
 pub const MIN_PILOT: u32 = 4;
 
-/// The largest pilot (a quality knob): 16 rays, one in each of 16 equal
-/// cells of the lens, find what covers a sixteenth of it.
-pub const MAX_PILOT: u32 = 16;
+/// The largest pilot (a quality knob): 32 rays, one in each of 32 equal
+/// cells of the lens, find what covers a thirty-second of it.
+pub const MAX_PILOT: u32 = 32;
 
 /// Pre-pass pixels: about one in this many of the frame's.
 const SURVEY_SHARE: u64 = 32;
@@ -48,9 +48,9 @@ const SURVEY_SHARE: u64 = 32;
 /// per cent of the frame's rays.
 const SURVEY_MAX: u64 = 256;
 
-/// Thresholds the pre-pass tries: 0, then 2^(k/4) for k = 0..75 (256ths of
-/// a level summed over channels), past the largest possible estimate.
-const CANDIDATES: usize = 77;
+/// Thresholds the pre-pass tries: 0, then 2^(k/4) for k = 0..55
+/// (sixteenths of a level), past the largest possible estimate (√3 · 4080).
+const CANDIDATES: usize = 57;
 
 /// When a pixel stops taking lens rays: set once a frame by the pre-pass.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -94,17 +94,59 @@ pub fn pilot(samples: u32) -> u32 {
     floor_pow2(samples / PILOT_DIVISOR).clamp(MIN_PILOT, MAX_PILOT)
 }
 
-/// The estimate of a mean's error: half the difference of the mean of the
-/// first n/2 rays and of all n, summed over channels, in 256ths of a level
-/// of the displayed (clamped) value: `Σ |m_half − m_all|`.
-fn estimate<S: Scalar>(half: &[S::Acc; 3], all: &[S::Acc; 3], n: u32) -> u32 {
-    (0..3)
-        .map(|k| {
-            let a = S::acc_mean(half[k], n / 2).to_fine() as i32;
-            let b = S::acc_mean(all[k], n).to_fine() as i32;
-            a.abs_diff(b)
-        })
-        .sum()
+/// A pixel's running sums: the mean's accumulators in the number type,
+/// and each channel's displayed value (clamped to [0, 1], in sixteenths of
+/// an 8-bit level) summed and squared, for the error estimate.
+struct Sums<S: Scalar> {
+    colour: [S::Acc; 3],
+    linear: [u64; 3],
+    squares: [u64; 3],
+}
+
+impl<S: Scalar> Sums<S> {
+    fn add(&mut self, c: Vec3<S>) {
+        for (k, v) in [c.x, c.y, c.z].into_iter().enumerate() {
+            self.colour[k] = S::acc_add(self.colour[k], v);
+            let f = (v.to_fine() >> 4) as u64;
+            self.linear[k] += f;
+            self.squares[k] += f * f;
+        }
+    }
+
+    /// The estimated error of the mean of `n` ≥ 2 rays: the standard error
+    /// √(s²/n) of each channel (s² the rays' sample variance) summed in
+    /// quadrature over channels, in sixteenths of a level, rounded down.
+    fn estimate(&self, n: u32) -> u32 {
+        let n = n as u64;
+        // n Σf² − (Σf)² = n (n − 1) s²: below 2⁶³ for 65535 rays of 4080.
+        let spread: u64 = (0..3)
+            .map(|k| (n * self.squares[k]).saturating_sub(self.linear[k] * self.linear[k]))
+            .sum();
+        isqrt(spread / (n * n * (n - 1))) as u32
+    }
+
+    fn mean(&self, n: u32) -> Vec3<S> {
+        let [r, g, b] = self.colour.map(|a| S::acc_mean(a, n));
+        Vec3::new(r, g, b)
+    }
+}
+
+/// ⌊√v⌋, bit by bit.
+fn isqrt(mut v: u64) -> u64 {
+    let (mut root, mut bit) = (0u64, 1u64 << 62);
+    while bit > v {
+        bit >>= 2;
+    }
+    while bit != 0 {
+        if v >= root + bit {
+            v -= root + bit;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+        bit >>= 2;
+    }
+    root
 }
 
 /// A lens pixel's mean colour and the rays it cast: `cast(strata)` casts
@@ -112,8 +154,8 @@ fn estimate<S: Scalar>(half: &[S::Acc; 3], all: &[S::Acc; 3], n: u32) -> u32 {
 /// cells of the lens (a power of two). With a `pilot`, at every power of
 /// two n from it below `samples` the pixel asks `stop(n, estimate)` and
 /// stops if told; a ray's cell is then one of the rays it has at its next
-/// check. Without a pilot it casts every sample, each one of
-/// `samples` rounded down to a power of two.
+/// check. Without a pilot it casts every sample, each one of `samples`
+/// rounded down to a power of two.
 pub(crate) fn pixel<S: Scalar>(
     samples: u32,
     pilot: Option<u32>,
@@ -122,26 +164,31 @@ pub(crate) fn pixel<S: Scalar>(
 ) -> (Vec3<S>, u32) {
     let finest = floor_pow2(samples);
     let mut strata = pilot.map_or(finest, |p| p.min(finest));
-    let mut sum = [S::acc_zero(); 3];
-    let mut half = sum;
+    let mut sums = Sums::<S> {
+        colour: [S::acc_zero(); 3],
+        linear: [0; 3],
+        squares: [0; 3],
+    };
     let mut n = 0;
     while n < samples {
-        let c = cast(strata);
-        sum = [S::acc_add(sum[0], c.x), S::acc_add(sum[1], c.y), S::acc_add(sum[2], c.z)];
+        sums.add(cast(strata));
         n += 1;
-        if !n.is_power_of_two() {
-            continue;
-        }
-        if pilot.is_some_and(|p| n >= p) && n < samples {
-            if stop(n, estimate::<S>(&half, &sum, n)) {
+        if n.is_power_of_two() && pilot.is_some_and(|p| n >= p) && n < samples {
+            if stop(n, sums.estimate(n)) {
                 break;
             }
             strata = (2 * n).min(finest);
         }
-        half = sum;
     }
-    let mean = Vec3::new(S::acc_mean(sum[0], n), S::acc_mean(sum[1], n), S::acc_mean(sum[2], n));
-    (mean, n)
+    (sums.mean(n), n)
+}
+
+/// A well-mixed 32-bit hash of a grid cell (a multiply-xorshift).
+fn cell_hash(i: u32, j: u32) -> u32 {
+    let mut h = i.wrapping_mul(0x9E37_79B1) ^ j.wrapping_mul(0x85EB_CA77);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x2C1B_3C6D);
+    h ^ (h >> 13)
 }
 
 /// 2^(k/4) for candidate k + 1, rounded; 0 for candidate 0.
@@ -180,8 +227,15 @@ pub(crate) fn survey(
     }
     let mut rays = [0u64; CANDIDATES];
     let (mut count, mut survey_rays) = (0u64, 0u64);
-    for y in (stride / 2..rows).step_by(stride as usize) {
-        for x in (stride / 2..cols).step_by(stride as usize) {
+    for (j, y0) in (0..rows).step_by(stride as usize).enumerate() {
+        for (i, x0) in (0..cols).step_by(stride as usize).enumerate() {
+            // A point of each cell, hashed: a regular grid aliases with
+            // regular scenes (a checkerboard).
+            let h = cell_hash(i as u32, j as u32);
+            let (x, y) = (x0 + h % stride, y0 + (h >> 16) % stride);
+            if x >= cols || y >= rows {
+                continue;
+            }
             // At most 15 checks: pilot 4 · 2^14 reaches 65535 samples.
             let mut found = [0u32; 16];
             let mut checks = 0;
