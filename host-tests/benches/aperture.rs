@@ -1,13 +1,13 @@
-//! What aperture blades cost: lens samples per second on a round lens and on
-//! polygons, and Program 1 with 16 rays a pixel through a round and a
-//! six-bladed lens (Q16.16, one thread). `cargo bench -p lensray-host --bench aperture`.
+//! What aperture blades cost: lens points per second on a round lens and on
+//! polygons (the stratified sampler's map of the unit square onto the
+//! aperture, `Aperture::map_q16`), and Program 1 with 16 rays a pixel through
+//! a round and a six-bladed lens (Q16.16, one thread).
+//! `cargo bench -p lensray-host --bench aperture`.
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::RgbColor;
-use lensray::unstable::aperture::Aperture;
-use lensray::unstable::lfsr::Lfsr;
-use lensray::{Renderer, Scene, I16F16};
+use lensray::{Aperture, Renderer, Scene, I16F16};
 
 const PROGRAM1: &str = include_str!("../../scenes/paper-program1.scene");
 
@@ -20,10 +20,14 @@ fn samples(c: &mut Criterion) {
         let ap = Aperture::regular(blades, 0.0);
         g.bench_function(BenchmarkId::new("blades", blades), |b| {
             b.iter(|| {
-                let mut r = Lfsr::for_pixel(1, 2, 0);
+                // Unit-square points from a xorshift, as 16-bit fractions.
+                let mut s = 0x2545_F491u32;
                 let mut acc = 0i64;
                 for _ in 0..N {
-                    let (x, y) = ap.sample(&mut r);
+                    s ^= s << 13;
+                    s ^= s >> 17;
+                    s ^= s << 5;
+                    let (x, y) = ap.map_q16(s as u16, (s >> 16) as u16);
                     acc += (x ^ y) as i64;
                 }
                 black_box(acc)
@@ -42,7 +46,7 @@ fn render(c: &mut Criterion) {
         let scene = Scene::<I16F16>::parse(&format!("{PROGRAM1}\naperture_blades {blades}\n")).unwrap();
         g.bench_function(BenchmarkId::new("blades", blades), |b| {
             b.iter(|| {
-                let r = Renderer::new(&scene, w, h).with_samples(n);
+                let r = Renderer::new_with_samples(&scene, w, h, Some(n));
                 let mut row = [Rgb888::BLACK; 160];
                 let mut sum = 0u64;
                 for y in 0..h {

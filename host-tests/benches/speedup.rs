@@ -54,7 +54,7 @@ fn whole_frames<S: Scalar + Send + Sync>(pool: &ThreadPool, scene: &Scene<S>, sa
     let start = Instant::now();
     pool.install(|| {
         (0..jobs).into_par_iter().with_max_len(1).for_each(|_| {
-            let renderer = Renderer::new(scene, W, H).with_samples(samples);
+            let renderer = Renderer::new_with_samples(scene, W, H, Some(samples));
             let mut row = [Rgb888::BLACK; W as usize];
             for y in 0..H {
                 renderer.render_row(y, &mut row);

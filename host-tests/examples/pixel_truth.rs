@@ -4,7 +4,7 @@
 //! each hits, the margins of the decisions involved (object units) and the
 //! shadow rays' near blockers.
 use embedded_graphics::pixelcolor::RgbColor;
-use lensray::{CameraSample, I16F16};
+use lensray::I16F16;
 use lensray_host::reference64::Scene64;
 use lensray_host::render_both;
 
@@ -38,24 +38,8 @@ fn main() {
             } else {
                 neither += 1;
             }
-            let hq = fixed
-                .closest_hit_camera_ray(
-                    &rf.camera().generate_ray(&CameraSample {
-                        film: &rf.camera().film_point(c, r),
-                        lens: None,
-                    }),
-                    rf.cones(),
-                )
-                .map(|(k, h)| (k, h.t.to_num::<f64>(), h.local.p.to_f64()));
-            let hf = float
-                .closest_hit_camera_ray(
-                    &rg.camera().generate_ray(&CameraSample {
-                        film: &rg.camera().film_point(c, r),
-                        lens: None,
-                    }),
-                    rg.cones(),
-                )
-                .map(|(k, h)| (k, h.t as f64, h.local.p.to_f64()));
+            let hq = rf.hit(&rf.camera_ray(c, r, None)).map(|(k, t)| (k, t.to_num::<f64>()));
+            let hf = rg.hit(&rg.camera_ray(c, r, None)).map(|(k, t)| (k, t as f64));
             println!(
                 "  ({c},{r}) Q {qa:?} f32 {fb:?} f64 {want:?} -> {}",
                 if eq <= 2 && ef > 2 {

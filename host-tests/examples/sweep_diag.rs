@@ -3,7 +3,6 @@
 //! is, with shadows off, and the pixels one number type draws as background
 //! where the other draws an object (the missing-horizon class).
 use embedded_graphics::pixelcolor::RgbColor;
-use lensray::CameraSample;
 use lensray::Scene;
 use lensray_host::{render_both, Diff, LineErrors};
 
@@ -44,31 +43,10 @@ fn main() {
                 if e.iter().copied().max().unwrap() > 20 && shown < 12 {
                     shown += 1;
                     let (c, r) = (i as u32 % w, i as u32 / w);
-                    let hf = fixed.closest_hit_camera_ray(
-                        &rf.camera().generate_ray(&CameraSample {
-                            film: &rf.camera().film_point(c, r),
-                            lens: None,
-                        }),
-                        rf.cones(),
-                    );
-                    let hg = float.closest_hit_camera_ray(
-                        &rg.camera().generate_ray(&CameraSample {
-                            film: &rg.camera().film_point(c, r),
-                            lens: None,
-                        }),
-                        rg.cones(),
-                    );
-                    let fmt_f = hf.map(|(k, h)| {
-                        (
-                            k,
-                            h.t.to_num::<f64>(),
-                            h.local.p.x.to_num::<f64>(),
-                            h.local.p.y.to_num::<f64>(),
-                            h.local.p.z.to_num::<f64>(),
-                        )
-                    });
-                    let fmt_g = hg.map(|(k, h)| (k, h.t, h.local.p.x, h.local.p.y, h.local.p.z));
-                    println!("  ({c},{r}) {:?} vs {:?}: Q {fmt_f:?} f32 {fmt_g:?}", pa, pb);
+                    let hf = rf.hit(&rf.camera_ray(c, r, None));
+                    let hg = rg.hit(&rg.camera_ray(c, r, None));
+                    let fmt_f = hf.map(|(k, t)| (k, t.to_num::<f64>()));
+                    println!("  ({c},{r}) {:?} vs {:?}: Q {fmt_f:?} f32 {hg:?}", pa, pb);
                 }
             }
         }

@@ -426,26 +426,32 @@ impl Scene64 {
     }
 
     /// The camera's frame (u, v, n) of the scene format's section 3, in f64:
-/// n = −look/|look|, u = up × n normalised, v = n × u; `None` where `look`
-/// is zero or parallel to `up`.
-fn basis(p: &CameraParams) -> Option<[[f64; 3]; 3]> {
-    let norm = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    let cross = |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
-    let l = norm(p.look);
-    if l == 0.0 {
-        return None;
+    /// n = −look/|look|, u = up × n normalised, v = n × u; `None` where `look`
+    /// is zero or parallel to `up`.
+    fn basis(p: &CameraParams) -> Option<[[f64; 3]; 3]> {
+        let norm = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        let cross = |a: [f64; 3], b: [f64; 3]| {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
+        };
+        let l = norm(p.look);
+        if l == 0.0 {
+            return None;
+        }
+        let n = p.look.map(|x| -x / l);
+        let c = cross(p.up, n);
+        let lc = norm(c);
+        if lc < 1e-9 * norm(p.up) {
+            return None;
+        }
+        let u = c.map(|x| x / lc);
+        Some([u, cross(n, u), n])
     }
-    let n = p.look.map(|x| -x / l);
-    let c = cross(p.up, n);
-    let lc = norm(c);
-    if lc < 1e-9 * norm(p.up) {
-        return None;
-    }
-    let u = c.map(|x| x / lc);
-    Some([u, cross(n, u), n])
-}
 
-/// The unit direction of pixel (`col`, `row`)'s chief ray at `cols` × `rows`.
+    /// The unit direction of pixel (`col`, `row`)'s chief ray at `cols` × `rows`.
     pub fn chief_dir(&self, col: u32, row: u32, cols: u32, rows: u32) -> V {
         let p = &self.camera;
         let [u, v, n] = Self::basis(p).expect("basis");
@@ -455,28 +461,6 @@ fn basis(p: &CameraParams) -> Option<[[f64; 3]; 3]> {
         unit(core::array::from_fn(|m| {
             ci * u[m] * pitch / 2.0 - cj * v[m] * pitch / 2.0 + (-hw * u[m] + hh * v[m] - p.image_distance * n[m])
         }))
-    }
-
-    /// The objects that cut the lens: those met by a segment from the lens's
-    /// centre to one of 64 points of its rim (none for a pinhole). Behind such
-    /// an object, a part of the lens sees something else for every pixel.
-    pub fn lens_cut_by(&self) -> Vec<usize> {
-        let c = &self.camera;
-        let mut cut = Vec::new();
-        let Some([u, v, _]) = Self::basis(c).filter(|_| c.radius > 0.0) else {
-            return cut;
-        };
-        for k in 0..64 {
-            let th = k as f64 * core::f64::consts::TAU / 64.0;
-            let d = core::array::from_fn(|m| u[m] * th.cos() + v[m] * th.sin());
-            for (i, o) in self.objects.iter().enumerate() {
-                if !cut.contains(&i) && o.hit(c.lens_position, d, 0.0, c.radius).is_some() {
-                    cut.push(i);
-                }
-            }
-        }
-        cut.sort_unstable();
-        cut
     }
 
     /// The nearest hit along `o + t d`.

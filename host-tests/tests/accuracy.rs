@@ -7,9 +7,8 @@
 
 mod common;
 
-use common::{level, render_fixed, render_float, scene_text, scenes_dir};
-use lensray::unstable::aperture::Aperture;
-use lensray::unstable::sampler::{PixelSamples, Sampler};
+use common::{level, render_fixed, render_float, scene_text, scenes_dir, stratified_lens_points};
+use lensray::Aperture;
 use lensray_host::{Diff, Image, LineErrors};
 
 /// Size of the all-scenes sweep: small enough for CI, large enough that the
@@ -142,7 +141,7 @@ fn shade(p: V, n: V, d: V, ka: V, kd: V, ks: V, shine: f64) -> V {
 
 /// The colour along a ray of Program 1, for rays that can only meet the gold
 /// sphere and the floor (the caller picks such pixels), or nothing.
-fn trace_sphere_and_floor(o: V, d: V, stratum: f64, pull: V) -> V {
+fn trace_sphere_and_floor(o: V, d: V, stratum: f64) -> V {
     // Gold sphere: centre (0, -1, -8), radius 1.
     let c = [0.0, -1.0, -8.0];
     let oc = sub(c, o);
@@ -171,17 +170,12 @@ fn trace_sphere_and_floor(o: V, d: V, stratum: f64, pull: V) -> V {
         }
         (_, Some(tf)) => {
             let p = sub(o, scale(d, -tf));
-            // The footprint's centre, pulled in: the hit of the ray from the
-            // lens point moved by -`pull`, δ (1 - z/z_f) across the ray at
-            // depth z, carried along the ray onto the floor.
-            let across = scale(pull, tf * -d[2] / 8.0 - 1.0);
-            let onto = sub(across, scale(d, dot(normal, across) / dot(normal, d)));
-            let centre = [p[0] + onto[0], p[1] + onto[1], p[2] + onto[2]];
             // Object space: undo the translation, then the rotation (x' = x,
             // y' = c y + s z, z' = -s y + c z for the inverse of -80 degrees).
-            let q = sub(centre, [0.0, -3.0, 0.0]);
+            let q = sub(p, [0.0, -3.0, 0.0]);
             let (x, y) = (q[0], co * q[1] + s * q[2]);
             let dark = ((x / 0.5).floor() + (y / 0.5).floor()) as i64 & 1 == 1;
+            // The footprint's radius: the stratum's, times |1 − z/z_f| at depth z.
             let k = floor_checker(
                 [x, y],
                 [d[0], co * d[1] + s * d[2], -s * d[1] + co * d[2]],
@@ -195,10 +189,13 @@ fn trace_sphere_and_floor(o: V, d: V, stratum: f64, pull: V) -> V {
 }
 
 /// The floor's checker (squares of 0.5) averaged over a lens ray's footprint
-/// of radius `w` (docs/scene-format.md, "Adaptive lens sampling"): at object
-/// point `p` with object direction `v` (unit), or `None` inside one square.
+/// of radius `w` (docs/sampling.md): at object point `p` with object
+/// direction `v` (unit), or `None` inside one square. The footprint, a disc
+/// across the ray projected along it onto the floor, spans w √(1 + (v_k /
+/// v_z)²) along object axis k (the slope held to 16), each axis's square
+/// wave averaged over it.
 fn floor_checker(p: [f64; 2], v: V, w: f64) -> Option<f64> {
-    let slant = 1.0 / v[2].abs().max(64.0 / 32768.0);
+    let slant = 1.0 / v[2].abs().max(1.0 / 16.0);
     let tri = |u: f64| {
         let m = u - 2.0 * (u / 2.0).floor();
         if m <= 1.0 {
@@ -212,9 +209,7 @@ fn floor_checker(p: [f64; 2], v: V, w: f64) -> Option<f64> {
     for k in 0..2 {
         let u = p[k] / 0.5;
         let (cell, frac) = (u.floor(), u - u.floor());
-        let along = (v[k].abs() * slant).min(16.0);
-        let (big, small) = if along > 1.0 { (along, 1.0) } else { (1.0, along) };
-        let e = w / 0.5 * (big + 0.375 * small);
+        let e = w / 0.5 * (1.0 + (v[k] * slant).powi(2)).sqrt();
         let mean = if e <= frac.min(1.0 - frac) {
             1.0
         } else {
@@ -226,9 +221,26 @@ fn floor_checker(p: [f64; 2], v: V, w: f64) -> Option<f64> {
     blurred.then_some(0.625 + 0.375 * product)
 }
 
+/// The strata of the lens that ray `k` of a pixel stands for (its
+/// footprint's): with a stop rule's `pilot`, the pilot's until the first
+/// check, then twice the rays at the last check, held to `samples` rounded
+/// down to a power of two; without one, that many (src/render/adaptive.rs).
+fn strata_of_ray(k: u32, samples: u32, pilot: Option<u32>) -> u32 {
+    let finest = 1 << (31 - samples.leading_zeros());
+    let Some(pilot) = pilot else { return finest };
+    let mut strata = pilot.min(finest);
+    for n in 1..=k {
+        if n.is_power_of_two() && n >= pilot && n < samples {
+            strata = (2 * n).min(finest);
+        }
+    }
+    strata
+}
+
 /// Pixel (`col`, `row`) of Program 1 at 640x480, from SPEC section 3 in f64
-/// with the renderers' own first `rays` lens samples (integer code, exact).
-fn program1_pixel(col: u32, row: u32, rays: u32) -> [f64; 3] {
+/// with the renderers' own first `rays` lens samples (integer code, exact),
+/// the stratified sampler's at 70 samples with the stop rule's `pilot`.
+fn program1_pixel(col: u32, row: u32, rays: u32, pilot: Option<u32>) -> [f64; 3] {
     let (n, a, zf) = (8.0, 0.2, 8.0);
     let p = 10.0 / 640.0;
     let film = [
@@ -237,17 +249,12 @@ fn program1_pixel(col: u32, row: u32, rays: u32) -> [f64; 3] {
         -n,
     ];
     let focus = scale(film, zf / n);
-    let mut lens = PixelSamples::new(Sampler::Stratified, col, row);
     let mut sum = [0.0; 3];
-    for k in 0..rays {
-        let (sx, sy) = lens.next(&Aperture::ROUND);
+    for (k, (sx, sy)) in (0..).zip(stratified_lens_points(col, row, rays, &Aperture::ROUND)) {
         let lens = [a * sx as f64 / 32768.0, a * sy as f64 / 32768.0, 0.0];
-        // The pilot's 16 strata, then 32 (the adaptive render's checks).
-        let strata = if k < 16 { 16f64 } else { 32f64 };
-        let stratum = a / strata.sqrt();
-        // Its box's centre pulled in by 1 - √(1 - 4/(3P)) of its offset.
-        let pull = scale(lens, 1.0 - (1.0 - 4.0 / (3.0 * strata)).sqrt());
-        let c = trace_sphere_and_floor(lens, unit(sub(focus, lens)), stratum, pull);
+        // The radius of one of that many equal cells of the lens.
+        let stratum = a / (strata_of_ray(k, 70, pilot) as f64).sqrt();
+        let c = trace_sphere_and_floor(lens, unit(sub(focus, lens)), stratum);
         for k in 0..3 {
             sum[k] += c[k];
         }
@@ -288,22 +295,14 @@ fn program1_640x480_70_rays_fixed_matches_f32_and_the_exact_pixels() {
     let float_r = lensray::Renderer::new(&scene_f, 640, 480);
     let mut worst = 0.0f64;
     for (col, row) in pixels {
-        let alone = [fixed_r.pixel(col, row), float_r.pixel(col, row)];
-        for (i, (name, img)) in [("Q16.16", &fixed), ("f32", &float)].into_iter().enumerate() {
-            // The rays each renderer took at a pixel (adaptive sampling, the default).
-            let exact = |c: u32| {
-                let rays = [fixed_r.pixel_rays(c, row).1, float_r.pixel_rays(c, row).1][i];
-                program1_pixel(c, row, rays)
-            };
+        for (name, img, pilot, rays) in [
+            ("Q16.16", &fixed, fixed_r.stop_rule(), fixed_r.pixel_rays(col, row).1),
+            ("f32", &float, float_r.stop_rule(), float_r.pixel_rays(col, row).1),
+        ] {
+            // The rays the renderer took at the pixel (adaptive sampling, the
+            // default: the f64 evaluation takes as many).
+            let want = program1_pixel(col, row, rays, pilot.map(|s| s.pilot)).map(|x| x.round());
             let p = img.get(col, row);
-            // Where the scanline filter mixed the row (src/render/scanline.rs),
-            // the mix of the exact pixels, rounded once.
-            let want = if p != alone[i] {
-                let (a, b, c) = (exact(col - 1), exact(col), exact(col + 1));
-                [0, 1, 2].map(|k| ((a[k] + 2.0 * b[k] + c[k]) / 4.0).round())
-            } else {
-                exact(col).map(|x| x.round())
-            };
             let got = [p.r(), p.g(), p.b()].map(|x| x as f64);
             for k in 0..3 {
                 let e = (got[k] - want[k]).abs();

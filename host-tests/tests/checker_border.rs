@@ -6,23 +6,21 @@
 
 mod common;
 use common::{random_placement, rng, stored_rows_delta, SteppedRay};
-use lensray::unstable::scene::{Object, ObjectDesc, DEFAULT_MATERIAL};
-use lensray::{Scalar, Shape, Vec3, I16F16};
+use lensray::{Scalar, Scene, Shape, Vec3, I16F16};
 use lensray_host::reference64::{Object64, Scene64};
 
-/// xorshift64*: the test's seeded random source, uniform in [0, 1).
-/// One textured object in both forms, Q16.16 and f64, from the same scene
-/// text: scaled 0.2 to 1.5 per axis (a plane 0.5 to 20), turned twice,
-/// anywhere within 30, squares of 0.1 to 0.6 object units (and their side).
-fn object(shape: Shape, r: &mut impl FnMut() -> f64) -> (Object<I16F16>, Object64, f64) {
+/// One textured object in both forms, Q16.16 (the only object of its
+/// scene) and f64, from the same scene text: scaled 0.2 to 1.5 per axis (a
+/// plane 0.5 to 20), turned twice, anywhere within 30, squares of 0.1 to 0.6
+/// object units (and their side).
+fn object(shape: Shape, r: &mut impl FnMut() -> f64) -> (Scene<I16F16>, Object64, f64) {
     let big = if shape == Shape::Plane { 15.0 } else { 1.3 };
     let placement = random_placement(r, big);
     let texture = 0.1 + 0.5 * r();
     let text = format!("object {}\ntexture {texture:.5}\n{placement}", shape.name());
     let o64 = Scene64::parse(&text).objects.remove(0);
-    let mut desc = ObjectDesc::new(shape, &DEFAULT_MATERIAL, o64.to_world);
-    desc.texture = (texture * 1e5).round() / 1e5;
-    (Object::new(&desc).expect("invertible"), o64, desc.texture)
+    let scene = Scene::parse(&text).expect("a valid placement");
+    (scene, o64, (texture * 1e5).round() / 1e5)
 }
 
 /// How far from f64's the retake's point lies, in object units, on a ray's
@@ -64,7 +62,8 @@ fn disagreements(cases: usize, retake: bool) -> Vec<(Shape, usize, usize, usize)
     for shape in [Shape::Sphere, Shape::Cube, Shape::Cylinder, Shape::Cone, Shape::Plane] {
         let (mut rays, mut wrong, mut beyond) = (0, 0, 0);
         for _ in 0..cases {
-            let (obj, o64, side) = object(shape, &mut r);
+            let (scene, o64, side) = object(shape, &mut r);
+            let obj = &scene.objects()[0];
             // Aim at a point near the centre (the plane: near its origin).
             let c = o64.to_world.apply([0, 1, 2].map(|_| (r() - 0.5) * 1.2), true);
             let ray = SteppedRay::new(c, &mut r);
@@ -149,31 +148,4 @@ fn checker_border_decisions_agree_with_f64() {
         );
         assert!(wrong * 400 <= rays, "{shape:?}: {wrong} of {rays} unlike f64");
     }
-}
-
-/// The switch the micro:bit's reference render uses (`no-exact-retakes` on
-/// the board, `Scene::set_exact_retakes(false)` on the host) does take the
-/// retake out: seed 16044's checker pixels (fix 16's first scene) differ,
-/// and only through the retake; f32, which never retakes, is unchanged.
-#[test]
-fn the_micro_bit_reference_renders_without_the_retake() {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("corpus/sweep-regressions/seed-16044-pinhole.scene");
-    let (w, h) = (160, 120);
-    let q16 = lensray_host::load_scene::<I16F16>(&path).unwrap();
-    let with = lensray_host::render_image(&q16, w, h, None, &|| {});
-    let without = lensray_host::render_image_as_microbit(&q16, w, h, None);
-    let mut off = q16.clone();
-    off.set_exact_retakes(false);
-    let off = lensray_host::render_image(&off, w, h, None, &|| {});
-    assert_eq!(without.pixels, off.pixels, "a pinhole frame: nothing to filter");
-    let differ = with.pixels.iter().zip(&without.pixels).filter(|(a, b)| a != b).count();
-    assert!(differ > 0, "the retake changed no pixel of seed 16044");
-    let f = lensray_host::load_scene::<f32>(&path).unwrap();
-    let (a, b) = (
-        lensray_host::render_image(&f, w, h, None, &|| {}),
-        lensray_host::render_image_as_microbit(&f, w, h, None),
-    );
-    assert_eq!(a.pixels, b.pixels, "f32 never retakes");
-    println!("seed 16044 at {w}x{h}: {differ} pixels retaken");
 }

@@ -140,7 +140,8 @@ fn renderer_arguments_at_their_extremes() {
         for samples in [0, 1, u32::MAX] {
             let r = Renderer::new(&scene, w, h).with_samples(samples);
             assert!((1..=65535).contains(&r.rays_per_pixel()));
-            assert!(r.camera().cols() >= 1 && r.camera().cols() <= MAX_IMAGE_SIDE);
+            let (cols, rows) = r.size();
+            assert!((1..=MAX_IMAGE_SIDE).contains(&cols) && (1..=MAX_IMAGE_SIDE).contains(&rows));
             // Pixels far outside the image are still answered.
             for (c, row) in [(0, 0), (u32::MAX, u32::MAX), (MAX_IMAGE_SIDE, 0)] {
                 if samples != u32::MAX {
@@ -189,12 +190,11 @@ fn progressive_passes_placed_anywhere_and_any_step() {
 }
 
 /// Each pass says what its pixels cast: the full-sample passes' rays are
-/// each pixel's own (its `pixel_rays`), and where rows are filtered the last
-/// pass's are the plain render's rows (it redraws them whole).
+/// each pixel's own (its `pixel_rays`), and together the plain render's.
 #[test]
 fn progressive_passes_count_the_rays_their_pixels_cast() {
     use lensray::progressive::{render_pass, Schedule};
-    let mut filtered = [false; 2];
+    let mut stopping = [false; 2];
     for (point, w, h, adaptive) in [
         (40, 48, 36, "on"),
         (12, 40, 30, "on"),
@@ -209,7 +209,7 @@ fn progressive_passes_count_the_rays_their_pixels_cast() {
             .sum();
         let passes: Vec<_> = Schedule::new(8, 1, renderer.rays_per_pixel()).collect();
         let mut full = 0;
-        for (i, pass) in passes.iter().enumerate() {
+        for pass in &passes {
             let mut canvas = Canvas::new(w, h);
             let Ok(rays) = render_pass(&renderer, &mut canvas, pass);
             let pixels = pass.pixel_count(w, h);
@@ -219,17 +219,15 @@ fn progressive_passes_count_the_rays_their_pixels_cast() {
                 continue;
             }
             full += rays;
-            let want = if i == passes.len() - 1 && renderer.filters() {
-                plain
-            } else {
-                (0..h)
-                    .flat_map(|r| (0..w).map(move |c| (c, r)))
-                    .filter(|&(c, r)| pass.computes(c, r))
-                    .map(|(c, r)| renderer.pixel_rays(c, r).1 as u64)
-                    .sum()
-            };
+            let want: u64 = (0..h)
+                .flat_map(|r| (0..w).map(move |c| (c, r)))
+                .filter(|&(c, r)| pass.computes(c, r))
+                .map(|(c, r)| renderer.pixel_rays(c, r).1 as u64)
+                .sum();
             assert_eq!(rays, want, "point {point}, pass {pass:?}");
-            if adaptive == "on" {
+            // Adaptive sampling stops pixels where `point` leaves room past
+            // two pilots; else every pixel casts its samples.
+            if renderer.stop_rule().is_some() {
                 assert!(
                     rays < pixels * point as u64,
                     "point {point}: adaptive pixels take fewer than `point`"
@@ -238,18 +236,16 @@ fn progressive_passes_count_the_rays_their_pixels_cast() {
                 assert_eq!(rays, pixels * point as u64, "point {point}: every pixel its samples");
             }
         }
-        filtered[renderer.filters() as usize] = true;
-        if !renderer.filters() {
-            assert_eq!(
-                full, plain,
-                "point {point}: each pixel computed once, as the plain render"
-            );
-        } else {
-            assert!(
-                full > plain,
-                "point {point}: the last pass redraws the coarser grids' pixels"
-            );
-        }
+        assert_eq!(
+            renderer.stop_rule().is_some(),
+            adaptive == "on" && point >= 2 * lensray::adaptive::pilot(point),
+            "point {point}, adaptive {adaptive}"
+        );
+        stopping[renderer.stop_rule().is_some() as usize] = true;
+        assert_eq!(
+            full, plain,
+            "point {point}: each pixel computed once, as the plain render"
+        );
     }
-    assert_eq!(filtered, [true; 2], "frames filtered and not");
+    assert_eq!(stopping, [true; 2], "frames with a stop rule and without");
 }

@@ -171,7 +171,7 @@ fn fuzz_parser_and_renderer() {
         s.rendered,
         s.inputs
     );
-    let unseen: Vec<&str> = lensray::unstable::parse::KEYWORDS
+    let unseen: Vec<&str> = lensray::KEYWORDS
         .iter()
         .filter(|k| !rendered_keywords.contains(k.as_bytes()))
         .copied()
@@ -258,7 +258,7 @@ fn every_keyword_is_in_the_libfuzzer_dictionary_and_the_format_docs() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let dict = std::fs::read_to_string(root.join("fuzz/parse_render.dict")).unwrap();
     let docs = std::fs::read_to_string(root.join("docs/scene-format.md")).unwrap();
-    for k in lensray::unstable::parse::KEYWORDS {
+    for k in lensray::KEYWORDS {
         assert!(
             dict.contains(&format!("=\"{k}\"")),
             "{k} is missing from fuzz/parse_render.dict"

@@ -4,7 +4,6 @@
 
 use std::path::{Path, PathBuf};
 
-use lensray::unstable::parse::Word;
 use lensray::{ErrorKind, ErrorKind::*, ParseError, Scene, I16F16, MAX_LIGHTS, MAX_OBJECTS};
 
 const Q16: &str = "must be below 32768 in magnitude (the range of Q16.16)";
@@ -21,9 +20,10 @@ enum Expect {
 }
 use Expect::*;
 
-/// The error's copy of a word: at most 29 bytes, then "...".
-fn w(s: &str) -> Word {
-    Word::try_from(s).expect("short word")
+/// The error's copy of a word (the parser's `Word`, a `heapless::String<32>`):
+/// at most 29 bytes, then "...".
+fn w(s: &str) -> heapless::String<32> {
+    heapless::String::try_from(s).expect("short word")
 }
 
 fn corpus_dir() -> PathBuf {

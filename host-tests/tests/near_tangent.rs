@@ -6,18 +6,16 @@
 
 mod common;
 use common::{random_placement, rng, SteppedRay};
-use lensray::unstable::scene::{Object, ObjectDesc, DEFAULT_MATERIAL};
-use lensray::{Scalar, Shape, Vec3, I16F16};
+use lensray::{Scalar, Scene, Shape, Vec3, I16F16};
 use lensray_host::reference64::{Object64, Scene64};
 
-/// xorshift64*: the test's seeded random source, uniform in [0, 1).
-/// One object in both forms, Q16.16 and f64, from the same scene text:
-/// scaled 0.2 to 1.5 per axis, turned twice, anywhere within 30.
-fn object(shape: Shape, r: &mut impl FnMut() -> f64) -> (Object<I16F16>, Object64) {
+/// One object in both forms, Q16.16 (the only object of its scene) and f64,
+/// from the same scene text: scaled 0.2 to 1.5 per axis, turned twice,
+/// anywhere within 30.
+fn object(shape: Shape, r: &mut impl FnMut() -> f64) -> (Scene<I16F16>, Object64) {
     let text = format!("object {}\n{}", shape.name(), random_placement(r, 1.3));
     let o64 = Scene64::parse(&text).objects.remove(0);
-    let desc = ObjectDesc::new(shape, &DEFAULT_MATERIAL, o64.to_world);
-    (Object::new(&desc).expect("invertible"), o64)
+    (Scene::parse(&text).expect("a valid placement"), o64)
 }
 
 /// (shape, rays, Q16.16 decisions unlike f64's) over `cases` silhouettes of
@@ -29,7 +27,8 @@ fn disagreements(cases: usize) -> Vec<(Shape, usize, usize)> {
     for shape in [Shape::Sphere, Shape::Cube, Shape::Cylinder, Shape::Cone] {
         let (mut rays, mut wrong) = (0, 0);
         for _ in 0..cases {
-            let (obj, o64) = object(shape, &mut r);
+            let (scene, o64) = object(shape, &mut r);
+            let obj = &scene.objects()[0];
             let c = o64.to_world.apply([0.0; 3], true);
             // An origin 20 to 120 away, the direction at the centre, rounded;
             // slid along an axis: f64 hits on the centre line and misses 4

@@ -86,7 +86,7 @@ fn sheet_places_each_tile_whole_with_its_caption_under_it() {
 
 #[test]
 fn camera_caption_reads_like_a_photographers_notes() {
-    let mut c = lensray::unstable::scene::CameraParams::default();
+    let mut c = lensray::CameraParams::default();
     assert_eq!(camera_caption(&c), "pinhole  f 4  N 8");
     c.radius = 0.2;
     assert_eq!(camera_caption(&c), "f 4  focus 8  r 0.2 f/10");

@@ -45,9 +45,11 @@ fn coc_pixels(z: f64) -> f64 {
 
 /// Renders a white, flat-lit sphere of radius r at depth z on black;
 /// `brightness` scales its colour (pixels are means, clamped after averaging).
+/// Every pixel casts all its `samples` (`adaptive off`): the picture is the
+/// lens's, not where adaptive sampling stops a pixel.
 fn tiny_sphere(z: f64, r: f64, brightness: f64, samples: u32) -> Image {
     let text = format!(
-        "width {}\naspect_ratio 1\nimage_distance {N}\nfocal_length {F}\nradius {A}\npoint {samples}\n\
+        "width {}\naspect_ratio 1\nimage_distance {N}\nfocal_length {F}\nradius {A}\npoint {samples}\nadaptive off\n\
          ambient_light {brightness} {brightness} {brightness}\n\
          object sphere\nKa 1 1 1\nKd 0 0 0\nscale {r} {r} {r}\ntranslate 0 0 -{z}\n",
         SIDE as f64 * PITCH

@@ -58,7 +58,7 @@ pub(crate) fn run(o: RenderArgs) -> Result<(), Fail> {
         return Err(Fail(format!("{}: is a directory", out.display())));
     }
     check_writable(&out)?;
-    // Rays: what the pixels and the survey cast (with --passes, every pass's: the preview and the redrawn rows too).
+    // Rays: what the pixels and the survey cast (with --passes, every pass's: the preview's too).
     let (img, kind, rays) = if o.float {
         let mut scene = load_scene::<f32>(scene_path)?;
         apply_to_scene(&o.sampling, &mut scene);

@@ -20,8 +20,8 @@ use embedded_graphics::geometry::{Dimensions, Point, Size};
 use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
-use lensray::{Keyword, Section, KEYWORDS};
 use lensray::{render_with, ErrorKind, ParseError, Renderer, Scalar, Scene, I16F16};
+use lensray::{Keyword, Section, KEYWORDS};
 
 /// Image size of the tiny renders: 8 × 6 pixels, 2 lens samples each.
 pub const TINY: (u32, u32, u32) = (8, 6, 2);

@@ -815,7 +815,7 @@ mod tests {
             .filter_map(|l| l.split([' ', '\t']).next())
             .map(str::to_string)
             .collect();
-        for k in lensray::unstable::parse::KEYWORDS {
+        for k in lensray::KEYWORDS {
             assert!(words.contains(k), "no generated scene uses {k}");
         }
         let has = |s: &str| texts.iter().any(|t| t.contains(s));

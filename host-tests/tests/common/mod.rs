@@ -162,3 +162,48 @@ pub fn surface_point(
     let h = s64.objects[0].hit(o, d, 1e-9, f64::INFINITY)?;
     Some([0, 1, 2].map(|i| o[i] + h.t * d[i]))
 }
+
+/// Pixel (`col`, `row`)'s first `n` stratified lens points on `aperture`
+/// (Q1.15), as the renderer draws them, written out from the sampler's
+/// documentation (src/camera/sampler.rs, src/camera/lfsr.rs; the library
+/// keeps its sampler private): the base-2 (0,2)-sequence (van der Corput,
+/// and Sobol's second dimension), shifted by two 16-bit draws of the
+/// pixel's register and jittered below its 10th bit by one fresh draw a
+/// point, mapped onto the aperture by [`lensray::Aperture::map_q16`].
+pub fn stratified_lens_points(col: u32, row: u32, n: u32, aperture: &lensray::Aperture) -> Vec<(i32, i32)> {
+    // The pixel's 32-bit Galois register (x³² + x²² + x² + x + 1), seeded by a
+    // murmur3-style hash of the pixel (its pass 0); 16 fresh bits a draw
+    // after 32 clocks.
+    let mut h = col.wrapping_mul(0x9E37_79B1) ^ row.wrapping_mul(0x85EB_CA77);
+    h ^= h >> 16;
+    h = h.wrapping_mul(0x7FEB_352D);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x846C_A68B);
+    h ^= h >> 16;
+    let mut state = h.max(1);
+    let mut draw = || {
+        for _ in 0..32 {
+            let lsb = state & 1;
+            state = (state >> 1) ^ (lsb.wrapping_neg() & 0x8020_0003);
+        }
+        (state >> 16) as u16
+    };
+    let shift = (draw(), draw());
+    // The sequence's top 10 bits are kept; the 6 below are jitter.
+    const NET: u16 = 0xFFC0;
+    (0..n)
+        .map(|i| {
+            let u = (i as u16).reverse_bits();
+            let (mut v, mut column) = (0u16, 0x8000u16);
+            for bit in 0..16 {
+                if (i >> bit) & 1 == 1 {
+                    v ^= column;
+                }
+                column ^= column >> 1;
+            }
+            let j = draw();
+            let (ju, jv) = (j & !NET, (j >> 6) & !NET);
+            aperture.map_q16(((u ^ shift.0) & NET) | ju, ((v ^ shift.1) & NET) | jv)
+        })
+        .collect()
+}
