@@ -15,8 +15,8 @@
 //! * the default render (stratified, adaptive): PSNR and mean rays a pixel,
 //!   the pre-pass's included;
 //! * `point` independent samples in every pixel;
-//! * plain stratified samples at the default's mean rays (rounded up) in
-//!   every pixel.
+//! * plain stratified samples at the default's mean rays in every pixel
+//!   (its PSNR interpolated between the whole counts on either side).
 //!
 //! Writes Markdown to `target/sampling.md` (or `LENSRAY_SAMPLING_OUT`) and,
 //! for the scenes of `scenes/`, the curves to `docs/sampling.png` (or
@@ -118,12 +118,24 @@ fn row(name: &str, text: &str, (w, h): (u32, u32), ref_n: u32, curves: bool) -> 
     let converged = Diff::of(&truth, &quarter).unwrap().psnr;
     let default = measure(text, &truth, Setting::default_render(point)).unwrap();
     let independent = measure(text, &truth, Setting::independent(point)).unwrap();
-    let plain = Setting {
-        samples: (default.rays.ceil() as u32).clamp(1, point),
-        sampler: Sampler::Stratified,
-        adaptive: false,
+    // Plain stratified at the default's mean rays: PSNR interpolated in
+    // rays between the whole counts around it.
+    let plain = |samples: u32| {
+        let s = Setting {
+            samples: samples.clamp(1, point),
+            sampler: Sampler::Stratified,
+            adaptive: false,
+        };
+        measure(text, &truth, s).unwrap()
     };
-    let stratified = measure(text, &truth, plain).unwrap();
+    let (lo, hi) = (default.rays.floor() as u32, default.rays.ceil() as u32);
+    let (a, b) = (plain(lo), plain(hi));
+    let f = default.rays - lo as f64;
+    let psnr = if hi == lo || a.psnr == b.psnr { b.psnr } else { a.psnr + f * (b.psnr - a.psnr) };
+    let stratified = Quality {
+        psnr,
+        rays: default.rays,
+    };
     let curves = curves.then(|| {
         let mut counts: Vec<u32> = COUNTS.iter().copied().filter(|&c| c < point).collect();
         counts.push(point);
@@ -177,7 +189,8 @@ fn markdown(rows: &[Row], w: u32, h: u32, ref_n: u32) -> String {
         "Against converged references ({ref_n} stratified f32 samples, {w}x{h}); renders in Q16.16.\n\
          *Rays*: the default render's mean rays a pixel (the pre-pass's included) and their share\n\
          of `point`. *vs independent*: its PSNR less that of `point` independent samples.\n\
-         *vs stratified*: less that of plain stratified samples at its mean rays (rounded up).\n\n\
+         *vs stratified*: less that of plain stratified samples at its mean rays (interpolated\n\
+         between the whole counts on either side).\n\n\
          | scene (point) | default PSNR | rays (share) | vs independent | vs stratified | converged |\n\
          |---|---|---|---|---|---|\n"
     );

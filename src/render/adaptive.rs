@@ -37,9 +37,6 @@ pub const PILOT_DIVISOR: u32 = 4;
 /// The smallest pilot: two halves of 2 rays to compare.
 pub const MIN_PILOT: u32 = 4;
 
-/// The largest pilot (a quality knob): 32 rays, one in each of 32 equal
-/// cells of the lens, find what covers a thirty-second of it.
-pub const MAX_PILOT: u32 = 32;
 
 /// Pre-pass pixels: about one in this many of the frame's.
 const SURVEY_SHARE: u64 = 32;
@@ -69,6 +66,9 @@ impl StopRule {
     /// level, summed over channels) stops there: `estimate ≤ threshold ·
     /// √(n / pilot)`, squared into integers.
     pub fn stops(&self, n: u32, estimate: u32) -> bool {
+        if self.threshold == u32::MAX {
+            return true;
+        }
         let e = estimate as u64;
         let t = self.threshold as u64;
         e * e * self.pilot as u64 <= t * t * n as u64
@@ -88,46 +88,84 @@ fn floor_pow2(n: u32) -> u32 {
     1 << (31 - n.max(1).leading_zeros())
 }
 
-/// The pilot for `samples` rays a pixel: `samples / 8` rounded down to a
-/// power of two, held within [`MIN_PILOT`]..=[`MAX_PILOT`].
+/// The pilot for `samples` rays a pixel: `samples / 4` rounded down to a
+/// power of two, at least [`MIN_PILOT`].
 pub fn pilot(samples: u32) -> u32 {
-    floor_pow2(samples / PILOT_DIVISOR).clamp(MIN_PILOT, MAX_PILOT)
+    floor_pow2(samples / PILOT_DIVISOR).max(MIN_PILOT)
 }
+
+/// Blocks a pixel's rays are split into for the error estimate (a
+/// quality knob): G − 1 = 7 degrees of freedom.
+pub const BLOCKS: usize = 8;
 
 /// A pixel's running sums: the mean's accumulators in the number type,
 /// and each channel's displayed value (clamped to [0, 1], in sixteenths of
-/// an 8-bit level) summed and squared, for the error estimate.
-struct Sums<S: Scalar> {
+/// a level) summed over each of [`BLOCKS`] blocks of consecutive rays.
+pub(crate) struct Sums<S: Scalar> {
     colour: [S::Acc; 3],
-    linear: [u64; 3],
-    squares: [u64; 3],
+    blocks: [[u32; 3]; BLOCKS],
+    /// Rays a block holds.
+    size: u32,
 }
 
 impl<S: Scalar> Sums<S> {
-    fn add(&mut self, c: Vec3<S>) {
-        for (k, v) in [c.x, c.y, c.z].into_iter().enumerate() {
-            self.colour[k] = S::acc_add(self.colour[k], v);
-            let f = (v.to_fine() >> 4) as u64;
-            self.linear[k] += f;
-            self.squares[k] += f * f;
+    fn new() -> Self {
+        Sums {
+            colour: [S::acc_zero(); 3],
+            blocks: [[0; 3]; BLOCKS],
+            size: 1,
         }
     }
 
-    /// The estimated error of the mean of `n` ≥ 2 rays: the standard error
-    /// √(s²/n) of each channel (s² the rays' sample variance) summed in
+    /// Adds ray `i` (from 0, in order), of colour `c`.
+    fn add(&mut self, i: u32, c: Vec3<S>) {
+        let block = &mut self.blocks[(i / self.size) as usize % BLOCKS];
+        for (k, v) in [c.x, c.y, c.z].into_iter().enumerate() {
+            self.colour[k] = S::acc_add(self.colour[k], v);
+            block[k] += (v.to_fine() >> 4) as u32;
+        }
+    }
+
+    /// The estimated error of the mean of the first `n` rays, a power of
+    /// two ≥ 2: the spread of its blocks' means (each block a (0,2)-net of
+    /// n/G points), as the standard error of their mean, summed in
     /// quadrature over channels, in sixteenths of a level, rounded down.
-    fn estimate(&self, n: u32) -> u32 {
-        let n = n as u64;
-        // n Σf² − (Σf)² = n (n − 1) s²: below 2⁶³ for 65535 rays of 4080.
+    pub(crate) fn estimate(&self, n: u32) -> u32 {
+        let g = n.min(BLOCKS as u32) as u64;
+        let size = (n as u64) / g;
         let spread: u64 = (0..3)
-            .map(|k| (n * self.squares[k]).saturating_sub(self.linear[k] * self.linear[k]))
+            .map(|k| {
+                let (sum, squares) = self.blocks[..g as usize]
+                    .iter()
+                    .fold((0u64, 0u64), |(s, q), b| (s + b[k] as u64, q + b[k] as u64 * b[k] as u64));
+                (g * squares).saturating_sub(sum * sum)
+            })
             .sum();
-        isqrt(spread / (n * n * (n - 1))) as u32
+        isqrt(spread / (g * g * (g - 1) * size * size)) as u32
+    }
+
+    /// After a check at `n` rays: from [`BLOCKS`] rays on, pairs of blocks
+    /// merge, and the next n rays fill the freed half.
+    fn double(&mut self, n: u32) {
+        if n < BLOCKS as u32 {
+            return;
+        }
+        for k in 0..BLOCKS / 2 {
+            let (a, b) = (self.blocks[2 * k], self.blocks[2 * k + 1]);
+            self.blocks[k] = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+        }
+        self.blocks[BLOCKS / 2..].fill([0; 3]);
+        self.size *= 2;
     }
 
     fn mean(&self, n: u32) -> Vec3<S> {
         let [r, g, b] = self.colour.map(|a| S::acc_mean(a, n));
         Vec3::new(r, g, b)
+    }
+
+    /// The mean of the first `n` rays as shown ([`shown`]).
+    fn shown(&self, n: u32) -> [u32; 3] {
+        shown(self.mean(n))
     }
 }
 
@@ -151,33 +189,33 @@ fn isqrt(mut v: u64) -> u64 {
 
 /// A lens pixel's mean colour and the rays it cast: `cast(strata)` casts
 /// its sampler's next ray, whose checker footprint is one of `strata` equal
-/// cells of the lens (a power of two). With a `pilot`, at every power of
-/// two n from it below `samples` the pixel asks `stop(n, estimate)` and
-/// stops if told; a ray's cell is then one of the rays it has at its next
-/// check. Without a pilot it casts every sample, each one of `samples`
-/// rounded down to a power of two.
+/// cells of the lens (a power of two). With a `pilot`, after each ray from
+/// the pilot's on (below `samples`) the pixel asks `stop(n, sums)` and
+/// stops if told; a ray's cell is one of the rays the pixel has at its
+/// next power of two. Without a pilot it casts every sample, each one of
+/// `samples` rounded down to a power of two.
 pub(crate) fn pixel<S: Scalar>(
     samples: u32,
     pilot: Option<u32>,
     mut cast: impl FnMut(u32) -> Vec3<S>,
-    mut stop: impl FnMut(u32, u32) -> bool,
+    mut stop: impl FnMut(u32, &Sums<S>) -> bool,
 ) -> (Vec3<S>, u32) {
     let finest = floor_pow2(samples);
-    let mut strata = pilot.map_or(finest, |p| p.min(finest));
-    let mut sums = Sums::<S> {
-        colour: [S::acc_zero(); 3],
-        linear: [0; 3],
-        squares: [0; 3],
-    };
+    let mut strata = pilot.map_or(finest, |p| floor_pow2(p).min(finest));
+    let mut sums = Sums::<S>::new();
     let mut n = 0;
     while n < samples {
-        sums.add(cast(strata));
+        sums.add(n, cast(strata));
         n += 1;
-        if n.is_power_of_two() && pilot.is_some_and(|p| n >= p) && n < samples {
-            if stop(n, sums.estimate(n)) {
-                break;
+        let asks = pilot.is_some_and(|p| n >= p);
+        if asks && n < samples && stop(n, &sums) {
+            break;
+        }
+        if n.is_power_of_two() {
+            sums.double(n);
+            if asks {
+                strata = (2 * n).min(finest);
             }
-            strata = (2 * n).min(finest);
         }
     }
     (sums.mean(n), n)
@@ -200,19 +238,41 @@ fn candidate(j: usize) -> u32 {
     }
 }
 
+/// What the pre-pass records of one of its pixels: at each check from the
+/// pilot (k for 2^k times the pilot) the estimate and the shown mean, the
+/// shown mean at the plain render's rays, and at all of them.
+struct Record {
+    estimates: [u32; 16],
+    means: [[u32; 3]; 16],
+    checks: usize,
+    plain: [u32; 3],
+    all: [u32; 3],
+}
+
+/// Squared distance of two shown colours (sixteenths of a level).
+fn squared(a: [u32; 3], b: [u32; 3]) -> u64 {
+    (0..3).map(|k| (a[k].abs_diff(b[k]) as u64).pow(2)).sum()
+}
+
 /// The frame's stop rule for `samples` rays a pixel on `cols` × `rows`
 /// pixels, from a pre-pass over a grid of them: `run(x, y, pilot, record)`
 /// renders pixel (x, y) as [`pixel`] does with that pilot, calling
-/// `record(n, estimate)` at each check and never stopping, and returns its
-/// rays. `None` where `samples` leaves no room past two pilots.
+/// `record(n, sums)` after each ray from the pilot's on and never
+/// stopping, and returns its mean; `None` where `samples` leaves no room
+/// past two pilots.
 ///
-/// For each candidate threshold the grid's rays predict the frame's; the
-/// rule takes the lowest threshold whose frame, with the pre-pass's own
-/// rays, stays within [`BUDGET_EIGHTHS`] of `samples` a pixel.
-pub(crate) fn survey(
+/// Each grid pixel renders every sample. For each candidate threshold,
+/// its rays and its squared distance to its own every-sample mean predict
+/// the frame's rays and squared error (up to a constant: the every-sample
+/// render's own error). The rule is the candidate of least predicted error
+/// among those whose frame, with the pre-pass's own rays, stays within
+/// [`BUDGET_EIGHTHS`] of `samples` a pixel; or, where plain stratified
+/// samples at that budget predict less error, that: a pilot of the budget
+/// and no threshold (every pixel stops there).
+pub(crate) fn survey<S: Scalar>(
     samples: u32,
     (cols, rows): (u32, u32),
-    mut run: impl FnMut(u32, u32, u32, &mut dyn FnMut(u32, u32) -> bool) -> u32,
+    mut run: impl FnMut(u32, u32, u32, &mut dyn FnMut(u32, &Sums<S>) -> bool) -> Vec3<S>,
 ) -> Option<StopRule> {
     let pilot = pilot(samples);
     if samples < 2 * pilot {
@@ -225,8 +285,13 @@ pub(crate) fn survey(
     while (stride as u64 * stride as u64) * wanted < pixels {
         stride += 1;
     }
+    let grid = (cols as u64).div_ceil(stride as u64) * (rows as u64).div_ceil(stride as u64);
+    let budget = (pixels * samples as u64 * BUDGET_EIGHTHS / 8).saturating_sub(grid * samples as u64);
+    // Plain stratified samples within the budget, every pixel alike.
+    let plain = ((budget / pixels) as u32).clamp(1, samples);
     let mut rays = [0u64; CANDIDATES];
-    let (mut count, mut survey_rays) = (0u64, 0u64);
+    let mut errors = [0u64; CANDIDATES];
+    let (mut plain_error, mut count, mut survey_rays) = (0u64, 0u64, 0u64);
     for (j, y0) in (0..rows).step_by(stride as usize).enumerate() {
         for (i, x0) in (0..cols).step_by(stride as usize).enumerate() {
             // A point of each cell, hashed: a regular grid aliases with
@@ -236,36 +301,64 @@ pub(crate) fn survey(
             if x >= cols || y >= rows {
                 continue;
             }
-            // At most 15 checks: pilot 4 · 2^14 reaches 65535 samples.
-            let mut found = [0u32; 16];
-            let mut checks = 0;
-            let n = run(x, y, pilot, &mut |_, e| {
-                found[checks.min(15)] = e;
-                checks += 1;
+            let mut r = Record {
+                estimates: [0; 16],
+                means: [[0; 3]; 16],
+                checks: 0,
+                plain: [0; 3],
+                all: [0; 3],
+            };
+            let mean = run(x, y, pilot.min(plain), &mut |n, sums| {
+                if n == plain {
+                    r.plain = sums.shown(n);
+                }
+                if n >= pilot && n.is_power_of_two() && r.checks < 16 {
+                    (r.estimates[r.checks], r.means[r.checks]) = (sums.estimate(n), sums.shown(n));
+                    r.checks += 1;
+                }
                 false
             });
-            survey_rays += n as u64;
+            r.all = shown(mean);
+            if plain == samples {
+                r.plain = r.all;
+            }
+            survey_rays += samples as u64;
             count += 1;
-            for (j, total) in rays.iter_mut().enumerate() {
+            plain_error += squared(r.plain, r.all);
+            for (k, (total, error)) in rays.iter_mut().zip(errors.iter_mut()).enumerate() {
                 let rule = StopRule {
                     pilot,
-                    threshold: candidate(j),
+                    threshold: candidate(k),
                     survey_rays: 0,
                 };
-                let at = (0..checks.min(16)).find(|&i| rule.stops(pilot << i, found[i]));
-                *total += at.map_or(samples, |i| pilot << i) as u64;
+                let at = (0..r.checks).find(|&c| rule.stops(pilot << c, r.estimates[c]));
+                *total += at.map_or(samples, |c| pilot << c) as u64;
+                *error += at.map_or(0, |c| squared(r.means[c], r.all));
             }
         }
     }
     let budget = (pixels * samples as u64 * BUDGET_EIGHTHS / 8).saturating_sub(survey_rays);
-    let j = (0..CANDIDATES)
-        .find(|&j| rays[j] * pixels <= budget * count)
-        .unwrap_or(CANDIDATES - 1);
-    Some(StopRule {
-        pilot,
-        threshold: candidate(j),
-        survey_rays: survey_rays as u32,
+    let best = (0..CANDIDATES)
+        .filter(|&k| rays[k] * pixels <= budget * count)
+        .min_by_key(|&k| errors[k]);
+    let survey_rays = survey_rays as u32;
+    Some(match best {
+        Some(k) if errors[k] <= plain_error => StopRule {
+            pilot,
+            threshold: candidate(k),
+            survey_rays,
+        },
+        _ => StopRule {
+            pilot: plain,
+            threshold: u32::MAX,
+            survey_rays,
+        },
     })
+}
+
+/// A colour as shown: each channel clamped to [0, 1], in sixteenths of a level.
+fn shown<S: Scalar>(c: Vec3<S>) -> [u32; 3] {
+    [c.x, c.y, c.z].map(|v| (v.to_fine() >> 4) as u32)
 }
 
 #[cfg(test)]
@@ -282,8 +375,114 @@ mod tests {
             let ratio = candidate(j + 1) as f64 / candidate(j).max(1) as f64;
             assert!(ratio <= 2.0 + 1e-9, "{j}");
         }
-        // Three channels of 255 levels in 256ths: every estimate stops at the last.
-        assert!(candidate(CANDIDATES - 1) as u64 > 3 * 255 * 256);
+        // Three channels of 255 levels in sixteenths, in quadrature: every
+        // estimate stops at the last.
+        assert!(candidate(CANDIDATES - 1) as f64 > 3f64.sqrt() * 255.0 * 16.0);
+    }
+
+    /// A generated lens integrand: a base value, up to two edges (half
+    /// planes of another value) and up to two discs (spots, some bright),
+    /// on the unit disc; the value at a lens point, clamped as displayed.
+    struct Integrand {
+        base: f64,
+        edges: std::vec::Vec<(f64, f64, f64, f64)>,
+        discs: std::vec::Vec<(f64, f64, f64, f64)>,
+    }
+
+    impl Integrand {
+        fn new(u: &mut impl FnMut() -> f64) -> Self {
+            let mut pick = |k: usize| {
+                let count = (u() * k as f64) as usize;
+                (0..count).map(|_| (u(), u(), u(), u())).collect()
+            };
+            let (edges, discs) = (pick(3), pick(3));
+            Integrand {
+                base: u(),
+                edges,
+                discs,
+            }
+        }
+
+        fn at(&self, x: f64, y: f64) -> f64 {
+            let mut v = self.base;
+            for &(th, d, val, _) in &self.edges {
+                let th = th * core::f64::consts::TAU;
+                if x * th.cos() + y * th.sin() > 2.0 * d - 1.0 {
+                    v = val;
+                }
+            }
+            for &(cx, cy, r, val) in &self.discs {
+                let (dx, dy) = (x - (2.0 * cx - 1.0), y - (2.0 * cy - 1.0));
+                if dx * dx + dy * dy < 0.25 * r * r {
+                    v = 4.0 * val;
+                }
+            }
+            v.clamp(0.0, 1.0)
+        }
+
+        /// The mean over the unit disc, on a fine grid.
+        fn mean(&self) -> f64 {
+            let k = 400;
+            let (mut sum, mut count) = (0.0, 0u32);
+            for i in 0..k {
+                for j in 0..k {
+                    let (x, y) = ((2 * i + 1) as f64 / k as f64 - 1.0, (2 * j + 1) as f64 / k as f64 - 1.0);
+                    if x * x + y * y < 1.0 {
+                        sum += self.at(x, y);
+                        count += 1;
+                    }
+                }
+            }
+            sum / count as f64
+        }
+    }
+
+    /// On generated lens integrands through the stratified sampler, the
+    /// mean's true error falls under the estimate (a standard error) at
+    /// least as often as a normal error falls under one standard deviation
+    /// (68 %), more often as rays grow (stratified samples beat independent
+    /// ones, whose error the standard error describes). Beyond three
+    /// estimates lie the pixels whose rays all missed a spot or an edge
+    /// (the estimate is then 0): fewer as rays grow, as a feature every
+    /// ray misses covers less of the lens (docs/sampling.md).
+    #[test]
+    fn the_error_estimate_is_calibrated_on_generated_lens_integrands() {
+        use crate::camera::aperture::Aperture;
+        use crate::camera::sampler::{PixelSamples, Sampler};
+        let mut u = crate::test_rng::unit_f64(0x5eed_ca1b);
+        let cases: std::vec::Vec<(Integrand, f64)> = (0..300)
+            .map(|_| {
+                let f = Integrand::new(&mut u);
+                let m = f.mean();
+                (f, m)
+            })
+            .collect();
+        let mut misses = 1.0;
+        for n in [8u32, 16, 32, 64] {
+            let (mut within, mut within3, mut total) = (0u32, 0u32, 0u32);
+            for (k, (f, truth)) in cases.iter().enumerate() {
+                let mut lens = PixelSamples::new(Sampler::Stratified, k as u32 % 37, k as u32 / 37);
+                let cast = |_| {
+                    let (x, y) = lens.next(&Aperture::ROUND);
+                    let v = f.at(x as f64 / 32768.0, y as f64 / 32768.0) as f32;
+                    Vec3::new(v, v, v)
+                };
+                let mut estimate = 0;
+                let (mean, _) = pixel::<f32>(n + 1, Some(n), cast, |m, sums| {
+                    estimate = sums.estimate(m);
+                    m == n
+                });
+                // Sixteenths of a level, three equal channels in quadrature.
+                let err = (mean.x as f64 - truth).abs() * 255.0 * 16.0 * 3f64.sqrt();
+                total += 1;
+                within += (err <= estimate as f64 + 1.0) as u32;
+                within3 += (err <= 3.0 * estimate as f64 + 1.0) as u32;
+            }
+            let (p1, p3) = (within as f64 / total as f64, within3 as f64 / total as f64);
+            assert!(p1 >= 0.68, "{n} rays: the error fell within the estimate in {p1:.3} of pixels");
+            assert!(1.0 - p3 < misses, "{n} rays: beyond three estimates in {:.3}", 1.0 - p3);
+            misses = 1.0 - p3;
+        }
     }
 
     #[test]
@@ -300,11 +499,11 @@ mod tests {
     }
 
     #[test]
-    fn the_pilot_is_an_eighth_of_point_within_its_bounds() {
+    fn the_pilot_is_a_quarter_of_point_as_a_power_of_two() {
         assert_eq!(pilot(1), MIN_PILOT);
-        assert_eq!(pilot(70), 8);
-        assert_eq!(pilot(128), 16);
-        assert_eq!(pilot(65535), MAX_PILOT);
+        assert_eq!(pilot(70), 16);
+        assert_eq!(pilot(128), 32);
+        assert_eq!(pilot(65535), 8192);
         for s in 1..2000 {
             assert!(pilot(s).is_power_of_two());
         }

@@ -27,6 +27,7 @@ pub(crate) mod defocus;
 pub mod progressive;
 mod trace;
 
+use adaptive::Sums;
 pub use adaptive::StopRule;
 
 /// A scene and a camera set up for one image size: renders pixels.
@@ -108,7 +109,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     fn surveyed(mut self) -> Self {
         self.stop = None;
         if self.scene.camera.adaptive && !self.camera.is_pinhole() {
-            let run = |x, y, pilot, record: &mut dyn FnMut(u32, u32) -> bool| self.lens_pixel((x, y), Some(pilot), record).1;
+            let run = |x, y, pilot, record: &mut dyn FnMut(u32, &Sums<S>) -> bool| {
+                self.lens_pixel((x, y), Some(pilot), record).0
+            };
             self.stop = adaptive::survey(self.samples, self.size(), run);
         }
         self
@@ -117,7 +120,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// A lens pixel's mean colour and rays ([`adaptive::pixel`]): its
     /// sampler's points in order, each ray's checker footprint its cell of
     /// the lens where the sampler is stratified.
-    fn lens_pixel(&self, (col, row): (u32, u32), pilot: Option<u32>, stop: impl FnMut(u32, u32) -> bool) -> (Vec3<S>, u32) {
+    fn lens_pixel(
+        &self,
+        (col, row): (u32, u32),
+        pilot: Option<u32>,
+        stop: impl FnMut(u32, &Sums<S>) -> bool,
+    ) -> (Vec3<S>, u32) {
         let film = self.camera.film_point(col, row);
         let mut lens = PixelSamples::new(self.sampler, col, row);
         let stratified = self.sampler == Sampler::Stratified;
@@ -169,8 +177,15 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         if self.camera.is_pinhole() {
             return (self.trace(&self.camera_ray(col, row, None)), 1);
         }
-        let pilot = self.stop.map(|s| s.pilot);
-        self.lens_pixel((col, row), pilot, |n, est| self.stop.is_some_and(|s| s.stops(n, est)))
+        let Some(rule) = self.stop else {
+            return self.lens_pixel((col, row), None, |_, _| false);
+        };
+        // Checks at the pilot and at each power of two past it.
+        let stop = |n: u32, sums: &Sums<S>| {
+            (n == rule.pilot || n.is_power_of_two())
+                && (rule.threshold == u32::MAX || rule.stops(n, sums.estimate(n)))
+        };
+        self.lens_pixel((col, row), Some(rule.pilot), stop)
     }
 
     /// Pixel (`col`, `row`) as 8-bit RGB: [`Renderer::pixel_rays`]'s mean,
