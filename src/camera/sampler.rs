@@ -120,7 +120,6 @@ impl PixelSamples {
         }
     }
 
-
     /// The next lens point on `aperture`, Q1.15 (as [`Aperture::sample`]).
     // Not `next_point(..).0`: that cost the micro:bit's pixel loop 52 bytes of flash.
     #[inline]
@@ -133,8 +132,6 @@ impl PixelSamples {
             }
         }
     }
-
-
 }
 
 impl crate::bytes::Field for Sampler {

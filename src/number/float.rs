@@ -301,7 +301,7 @@ impl crate::bytes::Field for FloatRow {
 /// f32's precise direction: the unit direction, with a chief ray's origin's
 /// bits below f32 (the eye's, from the film map; 0 for other rays): the eye
 /// rounded to f32 at 60 units is 2e-6 off, more than a grazing ray's margin
-/// on an object scaled 0.3 (seed 14009); and a camera ray's direction exactly
+/// on an object scaled 0.3; and a camera ray's direction exactly
 /// (`FloatFilmMap::film_exact`; zero for other rays) for a plane met at grazing.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct FloatDir {
@@ -481,10 +481,10 @@ fn plane_hit_f32(
 /// of the origin from the row to 48 bits and the eye to 48 bits (chief
 /// rays), and the point (x, y) along the film map's integer direction (2⁻⁴⁵),
 /// so that the point lies where float64 puts it (the f32 direction's error
-/// divided by the slope, 3e-5 at the horizon: seeds 14296, 16119); t is
+/// divided by the slope, 3e-5 at the horizon); t is
 /// where the rounded direction meets the same plane, so that the shading
 /// point `o + t d` lies on it (the exact distance along `d` put it 1e-3
-/// under the plane 9,800 away, in its own shadow: seed 16098) and compares
+/// under the plane 9,800 away, in its own shadow) and compares
 /// with other objects' t along `d`. Cold: software f64 on the boards.
 #[cold]
 #[inline(never)]

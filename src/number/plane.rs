@@ -184,8 +184,8 @@ pub(crate) fn plane_hit(
     }
     // t = −oz / (row_z · D) = −oz' 2^30 / dz for oz' the exact object z at
     // scale 2^-(16 + shift), cut to 32 bits (2^-32 relative): oz rounded to
-    // Q16.16 moved a grazing hit by 2^-17 / (row_z · D), 1e-3 at 33 (seed
-    // 3162: the seam of two planes a pixel off).
+    // Q16.16 moved a grazing hit by 2^-17 / (row_z · D), 1e-3 at 33 (
+    // the seam of two planes a pixel off).
     let z = match eye {
         // A chief ray: the same origin terms for every pixel, from set-up.
         Some(e) => ((e[3].to_bits() as i64) << 32) | e[2].to_bits() as u32 as i64,
@@ -219,7 +219,7 @@ pub(crate) fn plane_hit(
         return Some((q16(t), x, y));
     }
     // Object-space x and y: o + t (row · D). Beyond Q16.16's range (a hit
-    // in range on a plane scaled down: seed 32254's at 31,777 read 59,958 of
+    // in range on a plane scaled down: one at 31,777 read 59,958 of
     // its object y), the middle of a square of its true parity, as `far_xy`.
     let along = |i: usize| {
         let start = match eye {
@@ -287,7 +287,7 @@ pub(crate) fn plane_from_eye(rows: &[FixedRow; 3], o: [I16F16; 3], o_lo: [i16; 3
 
 /// `row · o_lo` (the origin's bits below Q16.16, at 2^-32) at the row's exact
 /// scale 2^-(16 + shift): the eye's height over a floor 0.4 below it was
-/// 2e-5 off with the eye rounded, its hit 4 away 8e-5 (seed 5116).
+/// 2e-5 off with the eye rounded, its hit 4 away 8e-5.
 #[inline]
 fn origin_low(row: &FixedRow, o_lo: &[i16; 3]) -> i64 {
     // 32-bit products (one instruction on the M0): m's top 15 bits times a
@@ -302,7 +302,7 @@ pub(crate) const FAR_T: i64 = i32::MAX as i64 - 1;
 /// Object-space x and y of a plane hit beyond the range (`t = −oz 2^(30 + k)
 /// / dz` Q16.16 bits), for the plane's checker (side, scale): each the middle
 /// of a square of the true hit's checker parity. At the clamped distance the texture took the square 32767
-/// along the ray, unrelated to the true one (seed 3086, lens: half the
+/// along the ray, unrelated to the true one (a lens: half the
 /// samples on a far plane took a random square, where f32 took the right
 /// one 84 % of the time); a plane's x and y serve only its texture. Without
 /// a texture, or where 31 bits cannot tell the square, 0.
@@ -540,8 +540,8 @@ mod tests {
     }
 
     /// Hits in range on a plane scaled down, whose object x or y is beyond
-    /// Q16.16's range, keep their true square too ([`checker_parity`]; seed
-    /// 32254: the coordinate clamped at 32768, a column of squares flipped).
+    /// Q16.16's range, keep their true square too ([`checker_parity`];
+    /// the coordinate clamped at 32768, a column of squares flipped).
     #[test]
     fn hits_in_range_beyond_the_objects_range_keep_their_parity() {
         let (kept, right) = checker_parity(0x3225_4001, 3_000.0, 0.05, |t, x, y| {
@@ -554,7 +554,7 @@ mod tests {
     /// Grazing hits in range: t within 2^-16 plus 2^-28 relative of its value
     /// computed in f64 from the kernel's own inputs (rows, origin, direction
     /// mantissas). The origin's object z rounded to Q16.16 first was off by
-    /// 2^-17 / (row_z · D): 1e-3 at a slope of 0.004 (seed 3162).
+    /// 2^-17 / (row_z · D): 1e-3 at a slope of 0.004.
     #[test]
     fn grazing_hits_take_the_exact_origin() {
         let mut next = crate::test_rng::unit_f64(0x1234_5678);

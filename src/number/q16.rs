@@ -217,8 +217,8 @@ pub(crate) const ROUND: u8 = 1;
 /// The checker's cells of a hit whose point lies close to a border
 /// (`Kernels::exact_cells`), summed over the three axes, from the exact ray:
 /// `q`, the object-space point of `o + s d` at 2^-30 (not rounded to
-/// Q16.16: 2^-17 a component decided a border 6e-6 away the wrong way, seeds
-/// 16044, 21213, 22268), taken onto the surface along the exact local
+/// Q16.16: 2^-17 a component decided a border 6e-6 away the wrong way),
+/// taken onto the surface along the exact local
 /// direction `D` by one Newton step, `q − (f(q) / 2) D / (n · D)`, with `f`
 /// the surface's implicit function (`surface`: [`FLAT`], [`ROUND`] for the
 /// sphere, [`CYLINDER`], [`CONE`]; exact at 2^-60, or `n · (q − p)` on a
@@ -257,7 +257,7 @@ pub(crate) fn exact_cells(
         } else {
             let x = q[j] - div_round_i64(half_f * dir[j], slope);
             // floor(x m / 2^(43 + b)), x cut to 32 bits first (a far plane's);
-            // a shift past 63 floors to 0 or -1 (a large side, seed-free: the baked test's).
+            // a shift past 63 floors to 0 or -1 (a large side).
             let k = bits_u64(x.unsigned_abs()).saturating_sub(32);
             mul_once(x >> k, scale.to_bits() as i64) >> (43 + b - k).min(63)
         };
@@ -288,7 +288,7 @@ fn half_f(q: [i64; 3], p: [I16F16; 3], nb: [i64; 3], surface: u8) -> Option<i64>
 /// A hit's world distance taken again from the exact ray
 /// (`Kernels::exact_t`), at 2^-30 world units: two surfaces met within a
 /// few Q16.16 steps of each other along a camera ray (a cube's face and a
-/// plane, a sphere through a cube: seeds 9206, 13193, 17035) are ordered on
+/// plane, a sphere through a cube) are ordered on
 /// it, not on t rounded to 2^-16. As in [`exact_cells`], `q` is the exact
 /// object-space point of `o + s d` (at 2^-30), and a Newton step along the
 /// exact local direction `D` (local units a world unit, from the rows' and
@@ -412,7 +412,7 @@ pub(crate) fn exact_hit_point(o: [I16F16; 3], d: &FixedDir, t: i64) -> Option<[I
 /// the exact vector from that start to the light at 2^-30 (the segment ends
 /// at the light itself): Q16.16's P, rounded to 2^-16 a
 /// component, put a shadow ray 4.4e-6 from tangent to a cylinder on the
-/// other side (seeds 5116, 12124). `None` where the scales do not fit.
+/// other side. `None` where the scales do not fit.
 #[cold]
 #[inline(never)]
 pub(crate) fn shadow_line(

@@ -319,7 +319,7 @@ impl<S: Scalar> Object<S> {
                 Some(Hit { t, local })
             }
             Some(mut hit) => {
-                // The face's t from the exact ray (seed 17170: 5e-4 late, behind a plane).
+                // The face's t from the exact ray (5e-4 late, behind a plane).
                 hit.t = plane.map_or(hit.t, |p| p.0);
                 (hit.t > t_min && hit.t < t_max).then_some(hit)
             }
@@ -360,7 +360,7 @@ impl<S: Scalar> Object<S> {
         // Re-origin the ray at the sphere's edge so object-space numbers stay small.
         let t_off = tc.sub(radius).max(S::ZERO);
         let (lo, ld, len, inv_len) = if S::LOCAL_FROM_CENTRE {
-            // f32 (seed 14009): the start's offset from the centre, `t_off d − oc`,
+            // f32: the start's offset from the centre, `t_off d − oc`,
             // through rows made for that offset (`Object::new`).
             let (ld, len, inv_len) = self.to_object.vector_unit(d);
             let o_lo = S::origin_low(&precise).map_or(Vec3::new(S::ZERO, S::ZERO, S::ZERO), Vec3::from_array);
@@ -388,7 +388,7 @@ impl<S: Scalar> Object<S> {
                 break h?;
             }
             again = false;
-            // Near a rim, an edge or a tangent (seeds 5010, 5163: a
+            // Near a rim, an edge or a tangent (a
             // silhouette pixel on the other object).
             let k = if by_len { len } else { inv_len };
             match self.closest_origin(o, &precise, S::ONE, (lo, ld, base), by_len, k) {
@@ -493,7 +493,7 @@ impl<S: Scalar> Object<S> {
                 return h.is_some();
             }
             again = false;
-            // From the exact hit where the retakes are on (seeds 5116, 12124:
+            // From the exact hit where the retakes are on (
             // Q16.16's start, rounded to 2⁻¹⁶, was on the other side of a tangent).
             let (o, line) = retake_line(from, o, v);
             match self.closest_origin(o, &line, dist, (lo, ld, base), by_len, k) {
@@ -509,7 +509,7 @@ impl<S: Scalar> Object<S> {
     /// with its world distance, and for a sphere or a cube whether the ray
     /// meets it (and the cube's face), decided from the exact point and
     /// direction: at a sphere's rim or a cube's edge a point rounded to
-    /// 2⁻¹⁷ still leaves 1e-5 of doubt (seeds 59, 9171, 92). `local` is the first pass's ray (origin,
+    /// 2⁻¹⁷ still leaves 1e-5 of doubt. `local` is the first pass's ray (origin,
     /// unit direction, world distance of the origin); local distances are
     /// world ones times `k` (`by_len`) or over it. Cold, out of line: taken
     /// by a few rays an object.
@@ -586,7 +586,7 @@ impl<S: Scalar> Object<S> {
     /// units) of a border, the type may take the cells again from the exact
     /// ray (`Kernels::exact_cells`; Q16.16's point, rounded to 2⁻¹⁶ a
     /// component after a re-origin and a transform, decided borders 6e-6
-    /// away the wrong way: seeds 16044, 21213, 22268).
+    /// away the wrong way).
     pub fn in_dark_square_of(&self, hit: &Hit<S>, o: Vec3<S>, d: &S::Dir) -> bool {
         if self.inv_texture == S::ZERO {
             return false;
