@@ -3,29 +3,31 @@
 //! `profile op=NAME calls=N instructions=I` line per operation, so the next
 //! optimisation is chosen by measurement.
 //!
-//! It walks every pixel the way [`lensray::Renderer`] does (the same lens
-//! samples, the same rays) and times, through the library's public API:
-//! the lens sample, the camera ray, each object's cone test (whether the ray
-//! can reach it at all, see `lensray::unstable::cull`), the intersection of each object
-//! the cone lets through (by shape, hit or miss, with the nearest hit so far
-//! as the limit, as the renderer's nearest-hit search does), the normal at
-//! the hit, the whole nearest-hit search and the whole trace.
-//! Shading is the trace less the nearest-hit search. The cost of each light
-//! comes from further passes with the lights removed one by one from the end:
-//! light k costs what the trace with k lights costs more than with k - 1.
+//! It times, through the library's public API only: the whole pixel
+//! ([`Renderer::pixel`], its own lens points and stop rule), and for each
+//! pixel's rays the camera ray ([`Renderer::camera_ray`]), the nearest-hit
+//! search ([`Renderer::hit`], split by the shape it finds) and the whole
+//! trace ([`Renderer::trace`]). Shading is the trace less the nearest-hit
+//! search. The cost of each light comes from further passes with the lights
+//! removed one by one from the end ([`Scene::truncate_lights`]): light k
+//! costs what the trace with k lights costs more than with k - 1.
+//!
+//! The per-ray passes cast [`Renderer::rays_per_pixel`] rays a pixel: the
+//! chief ray where that is one (a pinhole), else lens points drawn here uniformly on
+//! the unit disc (rejection from the square, by a 32-bit LFSR seeded by the
+//! pixel). They are not the renderer's own lens points, which its sampler
+//! keeps to itself, but rays of the same kind; the `pixel` line is the
+//! renderer's own.
 //!
 //! Each measurement includes a SysTick read-out, whose own cost (measured at
 //! the start) is taken off; a tick is 62.5 instructions on the micro:bit, and
 //! the mean over many calls is unbiased to a few instructions.
 
 use core::fmt::Write;
-use lensray::unstable::lfsr::Lfsr;
-use lensray::CameraSample;
-use lensray::MAX_LIGHTS;
-use lensray::{Renderer, Scalar, Scene, Shape};
+use lensray::{Ray, Renderer, Scalar, Scene, Shape, MAX_LIGHTS};
 
 use crate::instruction_count::{instructions, Counter};
-use crate::semihosting::HostFile;
+use lensray_firmware_cold::semihosting::HostFile;
 
 /// Calls and ticks of one operation.
 #[derive(Copy, Clone, Default)]
@@ -51,17 +53,15 @@ fn shape_index(s: Shape) -> usize {
 /// Everything the main pass measures.
 #[derive(Default)]
 struct Stats {
-    sample: Stat,
-    ray: Stat,
-    cone: Stat,
-    culled: u64,
-    hit: [Stat; SHAPES],
-    miss: [Stat; SHAPES],
-    normal: Stat,
-    closest: Stat,
-    trace: Stat,
-    trace_hit: Stat,
     pixel: Stat,
+    ray: Stat,
+    /// The nearest-hit search, by the shape it found.
+    hit: [Stat; SHAPES],
+    /// The nearest-hit search that found nothing.
+    miss: Stat,
+    trace: Stat,
+    /// The traces whose ray met an object.
+    trace_hit: Stat,
 }
 
 /// Times `f`, less the read-out's own ticks (`overhead`, scaled by 1024).
@@ -70,7 +70,7 @@ fn time<T>(counter: &Counter, overhead: u64, f: impl FnOnce() -> T) -> (T, u64) 
     let t0 = counter.ticks();
     let r = f();
     let t1 = counter.ticks();
-    ((r), ((t1 - t0) * 1024).saturating_sub(overhead))
+    (r, ((t1 - t0) * 1024).saturating_sub(overhead))
 }
 
 /// Ticks (× 1024) of an empty measurement.
@@ -83,6 +83,46 @@ fn overhead(counter: &Counter) -> u64 {
         sum += t1 - t0;
     }
     sum * 1024 / n
+}
+
+/// A pixel's lens points for the per-ray passes: uniform on the unit disc
+/// (Q1.15), from a 32-bit Galois LFSR seeded by the pixel.
+struct LensPoints(u32);
+
+impl LensPoints {
+    fn for_pixel(col: u32, row: u32) -> Self {
+        LensPoints((col.wrapping_mul(0x9E37_79B9) ^ row.wrapping_mul(0x85EB_CA6B)) | 1)
+    }
+
+    /// 16 fresh bits: the register clocked 16 times (successive states
+    /// are shifted copies of each other).
+    fn next_u16(&mut self) -> u16 {
+        for _ in 0..16 {
+            let lsb = self.0 & 1;
+            self.0 >>= 1;
+            if lsb == 1 {
+                self.0 ^= 0x8020_0003;
+            }
+        }
+        self.0 as u16
+    }
+
+    fn next(&mut self) -> (i32, i32) {
+        loop {
+            let x = self.next_u16() as i16 as i32;
+            let y = self.next_u16() as i16 as i32;
+            if (x * x) as u32 + (y * y) as u32 <= 1 << 30 {
+                return (x, y);
+            }
+        }
+    }
+}
+
+/// The rays the per-ray passes cast for pixel (`col`, `row`).
+fn rays<'r, S: Scalar>(renderer: &'r Renderer<'_, S>, col: u32, row: u32) -> impl Iterator<Item = Ray<S>> + 'r {
+    let pinhole = renderer.rays_per_pixel() == 1;
+    let mut lens = LensPoints::for_pixel(col, row);
+    (0..renderer.rays_per_pixel()).map(move |_| renderer.camera_ray(col, row, (!pinhole).then(|| lens.next())))
 }
 
 /// Runs the profile over `cols` × `rows` pixels with `samples` rays a pixel
@@ -99,66 +139,24 @@ pub fn run<S: Scalar>(
     let mut st = Stats::default();
     {
         let renderer = Renderer::new_with_samples(scene, cols, rows, samples);
-        let cam = renderer.camera();
-        let rays = renderer.rays_per_pixel();
+        let pinhole = renderer.rays_per_pixel() == 1;
         for row in 0..rows {
             for col in 0..cols {
                 let (_, t) = time(counter, ov, || renderer.pixel(col, row));
                 st.pixel.add(t);
-                let film = cam.film_point(col, row);
-                let mut lfsr = Lfsr::for_pixel(col, row, 0);
-                for _ in 0..rays {
-                    let (ray, t) = if cam.is_pinhole() {
-                        time(counter, ov, || {
-                            cam.generate_ray(&CameraSample {
-                                film: &film,
-                                lens: None,
-                            })
-                        })
-                    } else {
-                        let (lens, ts) = time(counter, ov, || cam.lens_sample(&mut lfsr));
-                        st.sample.add(ts);
-                        time(counter, ov, || {
-                            cam.generate_ray(&CameraSample {
-                                film: &film,
-                                lens: Some(lens),
-                            })
-                        })
-                    };
+                let mut lens = LensPoints::for_pixel(col, row);
+                for _ in 0..renderer.rays_per_pixel() {
+                    let p_lens = (!pinhole).then(|| lens.next());
+                    let (ray, t) = time(counter, ov, || renderer.camera_ray(col, row, p_lens));
                     st.ray.add(t);
-                    let (o, d, precise) = (ray.origin, ray.dir, ray.precise);
-                    let cones = renderer.cones();
-                    // Each object as the nearest-hit search meets it: first its cone,
-                    // then, if the ray can reach it, the intersection limited by the
-                    // nearest hit so far.
-                    let mut best: Option<(usize, lensray::unstable::scene::Hit<S>)> = None;
-                    for (i, obj) in scene.objects().iter().enumerate() {
-                        let (reach, t) = time(counter, ov, || cones.may_reach(i, d));
-                        st.cone.add(t);
-                        if !reach {
-                            st.culled += 1;
-                            continue;
-                        }
-                        let t_max = best.map_or(S::MAX, |(_, h)| h.t);
-                        let (h, t) = time(counter, ov, || obj.intersect_dir(o, d, precise, S::HIT_EPSILON, t_max));
-                        let k = shape_index(obj.shape);
-                        match h {
-                            Some(h) => {
-                                st.hit[k].add(t);
-                                best = Some((i, h));
-                            }
-                            None => st.miss[k].add(t),
-                        }
+                    let (hit, t) = time(counter, ov, || renderer.hit(&ray));
+                    match hit {
+                        Some((i, _)) => st.hit[shape_index(renderer.scene().objects()[i].shape)].add(t),
+                        None => st.miss.add(t),
                     }
-                    if let Some((i, h)) = best {
-                        let (_, t) = time(counter, ov, || scene.objects()[i].normal(&h, d));
-                        st.normal.add(t);
-                    }
-                    let (_, t) = time(counter, ov, || scene.closest_hit_camera_ray(&ray, cones));
-                    st.closest.add(t);
-                    let (_, t) = time(counter, ov, || scene.trace_camera_ray(&ray, cones));
+                    let (_, t) = time(counter, ov, || renderer.trace(&ray));
                     st.trace.add(t);
-                    if best.is_some() {
+                    if hit.is_some() {
                         st.trace_hit.add(t);
                     }
                 }
@@ -172,25 +170,11 @@ pub fn run<S: Scalar>(
     for k in (0..lights).rev() {
         scene.truncate_lights(k);
         let renderer = Renderer::new_with_samples(scene, cols, rows, samples);
-        let cam = renderer.camera();
         let mut sum = 0;
         for row in 0..rows {
             for col in 0..cols {
-                let film = cam.film_point(col, row);
-                let mut lfsr = Lfsr::for_pixel(col, row, 0);
-                for _ in 0..renderer.rays_per_pixel() {
-                    let ray = if cam.is_pinhole() {
-                        cam.generate_ray(&CameraSample {
-                            film: &film,
-                            lens: None,
-                        })
-                    } else {
-                        cam.generate_ray(&CameraSample {
-                            film: &film,
-                            lens: Some(cam.lens_sample(&mut lfsr)),
-                        })
-                    };
-                    let (_, t) = time(counter, ov, || scene.trace_camera_ray(&ray, renderer.cones()));
+                for ray in rays(&renderer, col, row) {
+                    let (_, t) = time(counter, ov, || renderer.trace(&ray));
                     sum += t;
                 }
             }
@@ -205,40 +189,26 @@ pub fn run<S: Scalar>(
     };
     let pixels = cols as u64 * rows as u64;
     line("pixel", st.pixel.calls, st.pixel.ticks);
-    line("lens-sample", st.sample.calls, st.sample.ticks);
     line("camera-ray", st.ray.calls, st.ray.ticks);
-    line("cone-test", st.cone.calls, st.cone.ticks);
-    // Calls only (no time of their own): the objects the cone test skipped.
-    line("culled-objects", st.culled, 0);
+    let mut search = st.miss;
     for (k, (name, _)) in Shape::ALL.iter().enumerate() {
-        if st.hit[k].calls + st.miss[k].calls > 0 {
+        if st.hit[k].calls > 0 {
             let mut buf = [0u8; 32];
             line(
-                label(&mut buf, "intersect-", name, "-hit"),
+                label(&mut buf, "nearest-hit-", name, ""),
                 st.hit[k].calls,
                 st.hit[k].ticks,
             );
-            line(
-                label(&mut buf, "intersect-", name, "-miss"),
-                st.miss[k].calls,
-                st.miss[k].ticks,
-            );
+            search.calls += st.hit[k].calls;
+            search.ticks += st.hit[k].ticks;
         }
     }
-    line("nearest-hit-search", st.closest.calls, st.closest.ticks);
-    line("normal", st.normal.calls, st.normal.ticks);
+    line("nearest-hit-none", st.miss.calls, st.miss.ticks);
+    line("nearest-hit-search", search.calls, search.ticks);
     line("trace", st.trace.calls, st.trace.ticks);
     let hits = st.trace_hit.calls;
-    line(
-        "shading-all-lights",
-        hits,
-        st.trace.ticks.saturating_sub(st.closest.ticks),
-    );
-    line(
-        "shading-no-light",
-        hits,
-        with_lights[0].saturating_sub(st.closest.ticks),
-    );
+    line("shading-all-lights", hits, st.trace.ticks.saturating_sub(search.ticks));
+    line("shading-no-light", hits, with_lights[0].saturating_sub(search.ticks));
     for k in 1..=lights {
         let mut buf = [0u8; 32];
         let mut num = [0u8; 4];

@@ -279,9 +279,10 @@ fn a_refused_file_leaves_an_empty_scene() {
 }
 
 #[test]
-fn an_adaptive_frame_keeps_its_survey_after_baking() {
-    // Program 1 at 64x48 and 40 samples: adaptive, surveyed (every 4th pixel),
-    // so the cap and the spread the survey set travel in the baked bytes.
+fn an_adaptive_frame_keeps_its_stop_rule_after_baking() {
+    // Program 1 at 64x48 and 40 samples: adaptive, so the pre-pass in
+    // `Renderer::new` sets a stop rule, which travels in the baked bytes
+    // (the board never runs the pre-pass).
     let path = scenes()
         .into_iter()
         .find(|p| p.ends_with("paper-program1.scene"))
@@ -289,45 +290,50 @@ fn an_adaptive_frame_keeps_its_survey_after_baking() {
     let text = std::fs::read(&path).unwrap();
     let q = Scene::<I16F16>::parse_bytes(&text).unwrap();
     let f = Scene::<f32>::parse_bytes(&text).unwrap();
-    let (cap, survey) = Renderer::new(&q, 64, 48).with_samples(40).adaptive_cap();
-    assert!(survey > 0 && cap > 16, "cap {cap}, survey rays {survey}");
-    round_trip(&q, 64, 48, 40, "Program 1 adaptive Q16.16");
-    round_trip(&f, 64, 48, 40, "Program 1 adaptive f32");
-    let mut loaded = Baked::<I16F16>::empty();
-    loaded
-        .load(&baked_bytes(&Renderer::new(&q, 64, 48).with_samples(40)))
-        .unwrap();
-    assert_eq!(loaded.renderer().adaptive_cap(), (cap, survey));
+    for samples in [40, q.camera.samples] {
+        let r = Renderer::new_with_samples(&q, 64, 48, Some(samples));
+        let rule = r.stop_rule().expect("Program 1 is adaptive: a stop rule");
+        assert!(rule.survey_rays > 0 && rule.pilot >= 4, "{rule:?}");
+        round_trip(&q, 64, 48, samples, "Program 1 adaptive Q16.16");
+        round_trip(&f, 64, 48, samples, "Program 1 adaptive f32");
+        let mut loaded = Baked::<I16F16>::empty();
+        loaded.load(&baked_bytes(&r)).unwrap();
+        assert_eq!(loaded.renderer().stop_rule(), Some(rule));
+        // The firmware's way: the renderer taken from the loaded scene.
+        let again = loaded.take_renderer();
+        assert_eq!(again.stop_rule(), Some(rule));
+        // Rows and their rays the same after baking.
+        let (mut a, mut b) = (vec![Default::default(); 64], vec![Default::default(); 64]);
+        for row in 0..48 {
+            assert_eq!(
+                again.render_row(row, &mut a),
+                r.render_row(row, &mut b),
+                "row {row}'s rays"
+            );
+            assert_eq!(a, b, "row {row}");
+        }
+    }
 }
 
+/// A frame without a stop rule (too few samples for two pilots, or
+/// `adaptive off`) bakes none, and every pixel casts all its samples.
 #[test]
-fn a_gap_frame_keeps_its_rules_after_baking() {
-    // Seed 10835 at `point` 3, 160x120: gaps every 4 columns, a loose rung,
-    // off checkers (rules bit 18, format 15). The rows, gaps filled as the
-    // survey chose, are the same after baking.
-    let text = lensray_host::convergence::with_point(&lensray_testkit::scenegen::generate_lens(10835), 3);
+fn a_frame_without_a_stop_rule_bakes_none() {
+    let path = scenes()
+        .into_iter()
+        .find(|p| p.ends_with("paper-program1.scene"))
+        .unwrap();
+    let text = String::from_utf8(std::fs::read(&path).unwrap()).unwrap();
     let q = Scene::<I16F16>::parse(&text).unwrap();
-    let r = Renderer::new(&q, 160, 120);
-    assert!(r.gap_period() == 4 && r.gap_loose() > 0 && !r.gap_checkers());
-    let mut loaded = Baked::<I16F16>::empty();
-    loaded.load(&baked_bytes(&r)).unwrap();
-    let again = loaded.renderer();
-    assert_eq!(
-        (
-            again.gap_period(),
-            again.gap_loose(),
-            again.gap_checkers(),
-            again.gap_budget()
-        ),
-        (r.gap_period(), r.gap_loose(), r.gap_checkers(), r.gap_budget())
-    );
-    let (mut a, mut b) = (vec![Default::default(); 160], vec![Default::default(); 160]);
-    for row in 0..120 {
-        assert_eq!(
-            again.render_row(row, &mut a),
-            r.render_row(row, &mut b),
-            "row {row}'s rays"
-        );
-        assert_eq!(a, b, "row {row}");
+    let off = Scene::<I16F16>::parse(&format!("{text}\nadaptive off\n")).unwrap();
+    for (scene, samples) in [(&q, 2), (&q, 7), (&off, 40)] {
+        let r = Renderer::new_with_samples(scene, 24, 18, Some(samples));
+        assert_eq!(r.stop_rule(), None, "{samples} samples");
+        let mut loaded = Baked::<I16F16>::empty();
+        loaded.load(&baked_bytes(&r)).unwrap();
+        let again = loaded.renderer();
+        assert_eq!(again.stop_rule(), None);
+        let mut row = vec![Default::default(); 24];
+        assert_eq!(again.render_row(9, &mut row), 24 * samples);
     }
 }

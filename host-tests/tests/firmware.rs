@@ -1,5 +1,8 @@
 //! The firmware under QEMU, through `lensray emulate`: the rows each board
-//! sends are bit for bit the host's own render of the same scene and size,
+//! sends are bit for bit the host's own plain render (`render_image`) of the
+//! same scene, size and samples, the micro:bit's included (one code path: no
+//! feature changes an image), with adaptive sampling and its pre-pass at
+//! work (the scenes' defaults),
 //! the instruction counter is calibrated, the microbit's 16 KiB of RAM hold the
 //! statics and the deepest stack, a panic or a HardFault ends the run with a
 //! non-zero status instead of a hang, and a run past `--timeout` is stopped.
@@ -17,7 +20,7 @@ use std::process::{Command, Output};
 use std::time::Instant;
 
 use lensray::{Scalar, I16F16};
-use lensray_host::{load_image, load_scene, render_image, render_image_as_microbit, Image};
+use lensray_host::{load_image, load_scene, render_image, Image};
 
 const LENSRAY: &str = env!("CARGO_BIN_EXE_lensray");
 
@@ -92,18 +95,13 @@ fn show(o: &Output) -> String {
     )
 }
 
-/// Runs `lensray emulate` and checks its image against the host's render.
-/// The host's render of `run`'s scene in `S`: unfiltered and without the
-/// exact retakes for the micro:bit, whose build leaves both out (its flash).
+/// The host's plain render of `run`'s scene in `S`: what every board must send.
 fn host_render<S: Scalar + Send + Sync>(path: &Path, run: &Run) -> Image {
     let scene = load_scene::<S>(path).unwrap();
-    if run.board == "microbit" {
-        render_image_as_microbit(&scene, run.width, run.height, run.samples)
-    } else {
-        render_image(&scene, run.width, run.height, run.samples, &|| {})
-    }
+    render_image(&scene, run.width, run.height, run.samples, &|| {})
 }
 
+/// Runs `lensray emulate` and checks its image against the host's render.
 fn emulate_and_compare(run: &Run) -> Outcome {
     let out = tmp(&format!(
         "{}-{}-{}x{}-{}{}.bmp",
@@ -196,13 +194,15 @@ fn emulate_and_compare(run: &Run) -> Outcome {
     outcome
 }
 
-/// A Markdown table of the runs, written beside the test's outputs and printed.
-fn record(board: &str, rows: &[(&Run, &Outcome)]) {
+/// A Markdown table of the runs, written beside the test's outputs (as
+/// `firmware-figures-NAME.md`) and printed.
+fn record(name: &str, rows: &[(&Run, &Outcome)]) {
     let mut md = String::from(
         "| board | scene | size | rays/pixel | number | instructions/pixel | pixels per million instructions | frame instructions | flash | static RAM | peak stack | wall s (build + run) |\n\
          |---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for (run, o) in rows {
+        let board = run.board;
         let number = match (run.float, run.soft_sqrt) {
             (false, _) => "Q16.16",
             (true, false) if board == "mps2-an386" => "f32, vsqrt.f32",
@@ -223,7 +223,7 @@ fn record(board: &str, rows: &[(&Run, &Outcome)]) {
             o.seconds,
         );
     }
-    let path = tmp(&format!("firmware-figures-{board}.md"));
+    let path = tmp(&format!("firmware-figures-{name}.md"));
     std::fs::write(&path, &md).expect("write the figures");
     println!("{md}(also in {})", path.display());
 }
@@ -240,48 +240,53 @@ fn program1_pinhole(board: &str) -> &'static str {
     path.to_str().unwrap().to_string().leak()
 }
 
+/// The micro:bit's flash floor for the default build (Program 1 baked at
+/// its defaults, 160x120): 40 KiB of .text + .rodata + .data.
+const MICROBIT_FLASH: u64 = 40 * 1024;
+
+/// Program 1's adaptive frame at `width` x `height` and `samples` on the
+/// host: its stop rule (the pre-pass in `Renderer::new`), checked to be
+/// at work (pixels stop at different counts).
+fn program1_stop_rule(width: u32, height: u32, samples: Option<u32>) -> lensray::StopRule {
+    let scene = load_scene::<I16F16>(&scene(PROGRAM1)).unwrap();
+    let r = lensray::Renderer::new_with_samples(&scene, width, height, samples);
+    let rule = r
+        .stop_rule()
+        .unwrap_or_else(|| panic!("Program 1 at {width}x{height}, {samples:?} samples: no stop rule"));
+    let counts: std::collections::BTreeSet<u32> = (0..height)
+        .step_by(3)
+        .flat_map(|y| (0..width).step_by(3).map(move |x| (x, y)))
+        .map(|(x, y)| r.pixel_rays(x, y).1)
+        .collect();
+    assert!(counts.len() > 1, "every pixel cast {counts:?} rays");
+    rule
+}
+
 #[test]
 #[ignore = "needs qemu-system-arm and thumbv6m-none-eabi; run by scripts/firmware-tests.sh"]
 fn microbit_renders_bit_for_bit_in_16k_of_ram() {
     let program1_pinhole = program1_pinhole("microbit");
+    let run = |scene, width, height, samples, float| Run {
+        board: "microbit",
+        scene,
+        width,
+        height,
+        samples,
+        float,
+        soft_sqrt: false,
+    };
+    // The default build first: Program 1 at 160x120 and its own `point` 70,
+    // stratified and adaptive, the stop rule baked in.
+    program1_stop_rule(160, 120, None);
     let runs = [
-        Run {
-            board: "microbit",
-            scene: PROGRAM1,
-            width: 160,
-            height: 120,
-            samples: Some(4),
-            float: false,
-            soft_sqrt: false,
-        },
-        Run {
-            board: "microbit",
-            scene: PINHOLE,
-            width: 160,
-            height: 120,
-            samples: None,
-            float: false,
-            soft_sqrt: false,
-        },
+        run(PROGRAM1, 160, 120, None, false),
+        run(PINHOLE, 160, 120, None, false),
         // f32 in software (no FPU): the same image as the host's f32 render.
-        Run {
-            board: "microbit",
-            scene: PROGRAM1,
-            width: 160,
-            height: 120,
-            samples: Some(4),
-            float: true,
-            soft_sqrt: false,
-        },
-        Run {
-            board: "microbit",
-            scene: program1_pinhole,
-            width: 160,
-            height: 120,
-            samples: None,
-            float: false,
-            soft_sqrt: false,
-        },
+        run(PROGRAM1, 160, 120, Some(4), true),
+        run(program1_pinhole, 160, 120, None, false),
+        run(PROGRAM1, 160, 120, Some(4), false),
+        // Too few samples for a stop rule: every pixel casts both.
+        run(PROGRAM1, 64, 48, Some(2), false),
     ];
     let outcomes: Vec<Outcome> = runs.iter().map(emulate_and_compare).collect();
     for o in &outcomes {
@@ -290,14 +295,16 @@ fn microbit_renders_bit_for_bit_in_16k_of_ram() {
         assert!(o.get("flash") <= 256 * 1024);
         assert_eq!(o.report.get("scene_form").map(String::as_str), Some("baked"));
     }
-    // Baked Program 1 (issue 15's floor): statics and the deepest stack in 8 KiB.
+    // Baked Program 1 at its defaults: statics and the deepest stack in 8 KiB.
     let ram = outcomes[0].get("static_ram") + outcomes[0].get("peak_stack");
     assert!(ram <= 8 * 1024, "Program 1 baked needs {ram} bytes of RAM");
-    // Baked Program 1 (with its lens), .text + .rodata (the report's `flash`):
-    // issue 15's floor, 48 KiB (46,316 bytes after the seventh round of the
-    // size work, BENCHMARKS.md).
+    // Baked Program 1 at its defaults (the default build), .text + .rodata +
+    // .data (the report's `flash`): at most 40 KiB.
     let flash = outcomes[0].get("flash");
-    assert!(flash <= 48 * 1024, "Program 1 baked needs {flash} bytes of flash");
+    assert!(
+        flash <= MICROBIT_FLASH,
+        "Program 1 baked needs {flash} bytes of flash (floor {MICROBIT_FLASH})"
+    );
     // Issue 15: Program 1's pinhole count no worse than before (6,889 instructions
     // a pixel); exact under -icount, so no wall clock is involved.
     let pinhole = outcomes[3].get("per_pixel");
@@ -306,10 +313,45 @@ fn microbit_renders_bit_for_bit_in_16k_of_ram() {
         "Program 1 pinhole takes {pinhole} instructions a pixel"
     );
     assert_eq!(outcomes[3].get("rays"), 1);
-    // Program 1 at `--samples 4` (at most 4 a pixel; 40 % of them, 1.56, on average) against the pinhole scene.
-    assert_eq!(outcomes[0].get("rays"), 4);
+    assert_eq!(outcomes[0].get("rays"), 70);
     assert_eq!(outcomes[1].get("rays"), 1);
+    assert_eq!(outcomes[4].get("rays"), 4);
+    assert_eq!(outcomes[5].get("rays"), 2);
     record("microbit", &runs.iter().zip(&outcomes).collect::<Vec<_>>());
+}
+
+/// Every board renders Program 1 at its defaults (`point` 70, stratified,
+/// adaptive: the pre-pass's stop rule at work) exactly as the host does:
+/// one code path, no board left out. The micro:bit's default build at
+/// 160x120 is in its own test above; here 64x48, on every QEMU board, in
+/// Q16.16, and in f32 on the FPU board.
+#[test]
+#[ignore = "needs qemu-system-arm, qemu-system-riscv32 and the four targets; run by scripts/firmware-tests.sh"]
+fn every_board_renders_the_hosts_image_at_the_scenes_defaults() {
+    let (w, h) = (64, 48);
+    program1_stop_rule(w, h, None);
+    let mut rows = Vec::new();
+    for (board, float) in [
+        ("microbit", false),
+        ("mps2-an385", false),
+        ("mps2-an386", false),
+        ("mps2-an386", true),
+        ("sifive-e", false),
+    ] {
+        let run = Run {
+            board,
+            scene: PROGRAM1,
+            width: w,
+            height: h,
+            samples: None,
+            float,
+            soft_sqrt: false,
+        };
+        let o = emulate_and_compare(&run);
+        assert_eq!(o.get("rays"), 70);
+        rows.push((run, o));
+    }
+    record("defaults", &rows.iter().map(|(r, o)| (r, o)).collect::<Vec<_>>());
 }
 
 #[test]
@@ -558,105 +600,18 @@ fn a_bad_scene_fails_like_render_before_any_build() {
     }
 }
 
-/// Generated seed 6014 (an object within a lens radius of the camera, nearly
-/// every pixel far out of focus) at its own `point` 21: the scanline filter
-/// (src/render/scanline.rs) changes most of the host's rows there.
-fn filtered_scene(board: &str) -> &'static str {
-    let text = lensray_testkit::scenegen::generate_lens(6014) + "\nsampler stratified\nadaptive on\n";
-    let scene = lensray::Scene::<I16F16>::parse(&text).unwrap();
-    let r = lensray::Renderer::new(&scene, 40, 30);
-    assert!(r.filters());
-    let mut changed = 0;
-    for row in 0..30 {
-        let mut out = vec![embedded_graphics::pixelcolor::Rgb888::new(0, 0, 0); 40];
-        r.render_row(row, &mut out);
-        changed += (0..40).filter(|&c| out[c as usize] != r.pixel(c, row)).count();
-    }
-    assert!(changed > 200, "the filter changes {changed} of 1200 pixels");
-    let path = tmp(&format!("filtered-6014-{board}.scene"));
-    std::fs::write(&path, text).unwrap();
-    path.to_str().unwrap().to_string().leak()
-}
-
+/// `camera-features` (a six-bladed aperture, its own `point` 320,
+/// stratified and adaptive) at 40x30 on the Cortex-M3, in Q16.16 and f32:
+/// each image the host's, bit for bit.
 #[test]
 #[ignore = "needs qemu-system-arm and thumbv7m-none-eabi; run by scripts/firmware-tests.sh"]
-fn the_scanline_filter_runs_bit_for_bit_on_the_cortex_m3() {
-    let scene = filtered_scene("mps2-an385");
-    for float in [false, true] {
-        let o = emulate_and_compare(&Run {
-            board: "mps2-an385",
-            scene,
-            width: 40,
-            height: 30,
-            samples: None,
-            float,
-            soft_sqrt: false,
-        });
-        assert_eq!(o.get("rays"), 21);
-    }
-}
-
-/// `camera-features` at `point` 33: its lamps' bokeh takes lamps' parts of
-/// the lens (src/render/lamps.rs: a ray drawn in the lamp's steps of the
-/// unit square, each part weighed by its share), bit for bit on the
-/// Cortex-M3 in Q16.16 and f32.
-#[test]
-#[ignore = "needs qemu-system-arm and thumbv7m-none-eabi; run by scripts/firmware-tests.sh"]
-fn lamps_parts_of_the_lens_run_bit_for_bit_on_the_cortex_m3() {
+fn camera_features_at_its_defaults_runs_bit_for_bit_on_the_cortex_m3() {
     let (w, h) = (40, 30);
-    let text =
-        lensray_host::convergence::with_point(&std::fs::read_to_string(scene("camera-features.scene")).unwrap(), 33);
+    let text = std::fs::read_to_string(scene("camera-features.scene")).unwrap();
     let parsed = lensray::Scene::<I16F16>::parse(&text).unwrap();
-    let r = lensray::Renderer::new(&parsed, w, h);
-    assert!(r.lamp_parts());
-    // Pixels that cast a lamp's ray beyond their pilot (8 or 16) or share: an odd count.
-    let odd = (0..h)
-        .flat_map(|y| (0..w).map(move |x| (x, y)))
-        .filter(|&(x, y)| r.pixel_rays(x, y).1 & 1 == 1)
-        .count();
-    assert!(odd >= 20, "{odd} pixels cast a lamp's ray");
-    m3_bit_for_bit_in_both_types("camera-features-33", &text, w, h);
+    assert!(lensray::Renderer::new(&parsed, w, h).stop_rule().is_some());
+    m3_bit_for_bit_in_both_types("camera-features", &text, w, h);
 }
-
-/// Seed 11777 at `point` 19: its "lamp" bright only by its bound, the survey
-/// runs again with its footprints at the plain pilot (rules bit 22), on the
-/// board as on the host: bit for bit on the Cortex-M3 in Q16.16 and f32.
-#[test]
-#[ignore = "needs qemu-system-arm and thumbv7m-none-eabi; run by scripts/firmware-tests.sh"]
-fn false_lamps_plain_pilots_run_bit_for_bit_on_the_cortex_m3() {
-    let (w, h) = (40, 30);
-    // As it renders by default: stratified (its own line says independent).
-    let generated = lensray_testkit::scenegen::generate_lens(11777) + "\nsampler stratified\n";
-    let text = lensray_host::convergence::with_point(&generated, 19);
-    let parsed = lensray::Scene::<I16F16>::parse(&text).unwrap();
-    assert!(lensray::Renderer::new(&parsed, w, h).plain_lamps());
-    m3_bit_for_bit_in_both_types("seed-11777-19", &text, w, h);
-}
-
-/// Lamps' parts off one lamp at a time (rules bits 23 to 30; seed 11754,
-/// one of its lamps off, the others on), and lamps' parts in the pilot's
-/// last ray where the pilot is the whole budget (rule bit 31; the mutant at
-/// `point` 20 of host-tests/extra-scenes/), on the board as on the host:
-/// bit for bit on the Cortex-M3 in Q16.16 and f32.
-#[test]
-#[ignore = "needs qemu-system-arm and thumbv7m-none-eabi; run by scripts/firmware-tests.sh"]
-fn lamps_parts_by_lamp_and_in_the_pilot_run_bit_for_bit_on_the_cortex_m3() {
-    let (w, h) = (40, 30);
-    // As it renders by default: stratified (its own line says independent).
-    let text = lensray_testkit::scenegen::generate_lens(11754) + "\nsampler stratified\n";
-    let parsed = lensray::Scene::<I16F16>::parse(&text).unwrap();
-    let r = lensray::Renderer::new(&parsed, w, h);
-    assert!(r.lamp_parts());
-    assert_ne!(r.lamp_parts_off(), 0);
-    m3_bit_for_bit_in_both_types("seed-11754", &text, w, h);
-    let name = "mutant-near-lamp-at-point-20";
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("extra-scenes/{name}.scene"));
-    let text = std::fs::read_to_string(path).unwrap();
-    let parsed = lensray::Scene::<I16F16>::parse(&text).unwrap();
-    assert!(lensray::Renderer::new(&parsed, w, h).lamps_in_place());
-    m3_bit_for_bit_in_both_types(name, &text, w, h);
-}
-
 /// Scene `text`, saved as `name`, rendered at `w`x`h` on the Cortex-M3 in
 /// Q16.16 and in f32: each image the host's, bit for bit.
 fn m3_bit_for_bit_in_both_types(name: &str, text: &str, w: u32, h: u32) {

@@ -252,25 +252,24 @@ fn render_panel_rgb565_shows_the_render_on_a_16_bit_panel() {
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--panel rgb666: unknown panel format"));
 }
 
-/// The scanline filter through the progressive passes (the last pass redraws
-/// the coarser grids' rows): generated seed 6014 at its own `point` 21,
-/// nearly every pixel far out of focus, on the panel bit for bit.
+/// Program 1 at its own defaults (`point` 70, stratified and adaptive): the
+/// Pico runs the adaptive pre-pass itself (it parses the scene on the
+/// device), and its stop rule, pixels and the progressive passes' last
+/// refinement are the host's, bit for bit on the panel.
 #[test]
 #[ignore = "needs node, npm ci in firmware/pico/emu and thumbv6m-none-eabi; run by scripts/firmware-tests.sh"]
-fn the_pico_panel_shows_the_scanline_filter_bit_for_bit() {
-    let text = lensray_testkit::scenegen::generate_lens(6014) + "\nsampler stratified\nadaptive on\n";
-    let scene = Scene::<I16F16>::parse(&text).unwrap();
-    let r = lensray::Renderer::new(&scene, 32, 24);
-    assert!(r.filters());
-    let changed: usize = (0..24)
-        .map(|row| {
-            let mut out = vec![embedded_graphics::pixelcolor::Rgb888::new(0, 0, 0); 32];
-            r.render_row(row, &mut out);
-            (0..32).filter(|&c| out[c as usize] != r.pixel(c, row)).count()
-        })
-        .sum();
-    assert!(changed > 100, "the filter changes {changed} of 768 pixels");
-    let path = tmp("pico-filtered-6014.scene");
-    std::fs::write(&path, text).unwrap();
-    panel_equals_host(&path, 32, 24, scene.camera.samples);
+fn the_pico_panel_matches_the_host_at_the_scenes_defaults() {
+    let path = repo().join("scenes/paper-program1.scene");
+    let scene = load_scene::<I16F16>(&path).unwrap();
+    let (w, h) = (32, 24);
+    let r = Renderer::new(&scene, w, h);
+    let rule = r.stop_rule().expect("Program 1 at its defaults has a stop rule");
+    assert!(rule.survey_rays > 0, "{rule:?}");
+    // Pixels stop at different counts: the stop rule is at work.
+    let counts: std::collections::BTreeSet<u32> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| r.pixel_rays(x, y).1)
+        .collect();
+    assert!(counts.len() > 1, "every pixel cast {counts:?} rays");
+    panel_equals_host(&path, w, h, scene.camera.samples);
 }

@@ -64,8 +64,17 @@ fn bytes_of<S: BakeScalar>(scene_path: &Path, o: &BakeArgs) -> Result<Vec<u8>, F
     let renderer = Renderer::new_with_samples(&scene, w, h, o.size.samples);
     let mut bytes = vec![0u8; baked_len(&renderer)];
     bake(&renderer, &mut bytes)?;
+    // The stop rule was set on the host, by the pre-pass in `Renderer::new`:
+    // the board loads it and never runs the pre-pass.
+    let stop = match renderer.stop_rule() {
+        Some(r) => format!(
+            "stop rule: pilot {}, threshold {} (pre-pass {} rays)",
+            r.pilot, r.threshold, r.survey_rays
+        ),
+        None => "no stop rule".to_string(),
+    };
     eprintln!(
-        "baked {} for {w}x{h}, {}, {} rays a pixel: {} bytes",
+        "baked {} for {w}x{h}, {}, at most {} rays a pixel, {stop}: {} bytes",
         scene_path.display(),
         S::NAME,
         renderer.rays_per_pixel(),
