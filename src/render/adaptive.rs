@@ -34,9 +34,9 @@ pub const BUDGET_EIGHTHS: u64 = 3;
 /// pixel has seen the lens at a quarter of the full render's resolution.
 pub const PILOT_DIVISOR: u32 = 4;
 
-/// The smallest pilot: two halves of 2 rays to compare.
-pub const MIN_PILOT: u32 = 4;
-
+/// The smallest pilot (a quality knob): 8 rays, one a block, the fewest
+/// whose estimate has the blocks' seven degrees of freedom.
+pub const MIN_PILOT: u32 = 8;
 
 /// Pre-pass pixels: about one in this many of the frame's.
 const SURVEY_SHARE: u64 = 32;
@@ -135,9 +135,9 @@ impl<S: Scalar> Sums<S> {
         let size = (n as u64) / g;
         let spread: u64 = (0..3)
             .map(|k| {
-                let (sum, squares) = self.blocks[..g as usize]
-                    .iter()
-                    .fold((0u64, 0u64), |(s, q), b| (s + b[k] as u64, q + b[k] as u64 * b[k] as u64));
+                let (sum, squares) = self.blocks[..g as usize].iter().fold((0u64, 0u64), |(s, q), b| {
+                    (s + b[k] as u64, q + b[k] as u64 * b[k] as u64)
+                });
                 (g * squares).saturating_sub(sum * sum)
             })
             .sum();
@@ -267,18 +267,25 @@ fn squared(a: [u32; 3], b: [u32; 3]) -> u64 {
 /// render's own error). The rule is the candidate of least predicted error
 /// among those whose frame, with the pre-pass's own rays, stays within
 /// [`BUDGET_EIGHTHS`] of `samples` a pixel; or, where plain stratified
-/// samples at that budget predict less error, that: a pilot of the budget
-/// and no threshold (every pixel stops there).
+/// samples in every pixel within 40 % of `samples` (their rays are exact)
+/// predict less error, that: a pilot of those rays and no threshold (every
+/// pixel stops there).
 pub(crate) fn survey<S: Scalar>(
     samples: u32,
     (cols, rows): (u32, u32),
     mut run: impl FnMut(u32, u32, u32, &mut dyn FnMut(u32, &Sums<S>) -> bool) -> Vec3<S>,
 ) -> Option<StopRule> {
     let pilot = pilot(samples);
-    if samples < 2 * pilot {
-        return None;
-    }
     let pixels = cols as u64 * rows as u64;
+    if samples < 2 * pilot {
+        // No room to adapt: plain samples within the promise, no pre-pass.
+        let plain = (samples * 2 / 5).max(1);
+        return (plain < samples).then_some(StopRule {
+            pilot: plain,
+            threshold: u32::MAX,
+            survey_rays: 0,
+        });
+    }
     let wanted = (pixels / SURVEY_SHARE).clamp(1, SURVEY_MAX);
     // The smallest stride whose grid has at most `wanted` cells.
     let mut stride = 1u32;
@@ -286,9 +293,10 @@ pub(crate) fn survey<S: Scalar>(
         stride += 1;
     }
     let grid = (cols as u64).div_ceil(stride as u64) * (rows as u64).div_ceil(stride as u64);
-    let budget = (pixels * samples as u64 * BUDGET_EIGHTHS / 8).saturating_sub(grid * samples as u64);
-    // Plain stratified samples within the budget, every pixel alike.
-    let plain = ((budget / pixels) as u32).clamp(1, samples);
+    // Plain stratified samples, every pixel alike: their rays are known
+    // exactly, so they take all of the promised 40 % but the pre-pass's.
+    let promise = (pixels * samples as u64 * 2 / 5).saturating_sub(grid * samples as u64);
+    let plain = ((promise / pixels) as u32).clamp(1, samples);
     let mut rays = [0u64; CANDIDATES];
     let mut errors = [0u64; CANDIDATES];
     let (mut plain_error, mut count, mut survey_rays) = (0u64, 0u64, 0u64);
@@ -479,7 +487,10 @@ mod tests {
                 within3 += (err <= 3.0 * estimate as f64 + 1.0) as u32;
             }
             let (p1, p3) = (within as f64 / total as f64, within3 as f64 / total as f64);
-            assert!(p1 >= 0.68, "{n} rays: the error fell within the estimate in {p1:.3} of pixels");
+            assert!(
+                p1 >= 0.68,
+                "{n} rays: the error fell within the estimate in {p1:.3} of pixels"
+            );
             assert!(1.0 - p3 < misses, "{n} rays: beyond three estimates in {:.3}", 1.0 - p3);
             misses = 1.0 - p3;
         }

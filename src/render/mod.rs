@@ -27,8 +27,8 @@ pub(crate) mod defocus;
 pub mod progressive;
 mod trace;
 
-use adaptive::Sums;
 pub use adaptive::StopRule;
+use adaptive::Sums;
 
 /// A scene and a camera set up for one image size: renders pixels.
 ///
@@ -145,12 +145,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         (self.camera.cols(), self.camera.rows())
     }
 
-    /// The most rays a pixel casts: 1 for a pinhole camera, else the sample count.
+    /// The most rays a pixel casts: 1 for a pinhole camera; where the stop
+    /// rule is plain samples within the budget, those; else the sample count.
     pub fn rays_per_pixel(&self) -> u32 {
-        if self.camera.is_pinhole() {
-            1
-        } else {
-            self.samples
+        match self.stop {
+            _ if self.camera.is_pinhole() => 1,
+            // Plain samples within the budget: every pixel stops at the pilot.
+            Some(rule) if rule.threshold == u32::MAX => rule.pilot.min(self.samples),
+            _ => self.samples,
         }
     }
 
@@ -182,8 +184,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         };
         // Checks at the pilot and at each power of two past it.
         let stop = |n: u32, sums: &Sums<S>| {
-            (n == rule.pilot || n.is_power_of_two())
-                && (rule.threshold == u32::MAX || rule.stops(n, sums.estimate(n)))
+            (n == rule.pilot || n.is_power_of_two()) && (rule.threshold == u32::MAX || rule.stops(n, sums.estimate(n)))
         };
         self.lens_pixel((col, row), Some(rule.pilot), stop)
     }
@@ -231,7 +232,9 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// The nearest object a camera ray meets, as its index in the scene's
     /// objects and its distance along the ray; `None` for a miss.
     pub fn hit(&self, ray: &Ray<S>) -> Option<(usize, S)> {
-        self.scene.closest_hit_camera_ray(ray, &self.cones).map(|(i, h)| (i, h.t))
+        self.scene
+            .closest_hit_camera_ray(ray, &self.cones)
+            .map(|(i, h)| (i, h.t))
     }
 }
 

@@ -238,7 +238,7 @@ where
 /// would repeat for every band.
 fn pass_renderer<'a, S: Scalar>(renderer: &Renderer<'a, S>, pass: &Pass) -> Renderer<'a, S> {
     let mut r = renderer.clone();
-    if pass.samples < r.samples {
+    if pass.samples < r.rays_per_pixel() {
         // A preview: every pixel its few samples, no stop rule.
         r.samples = pass.samples.max(1);
         r.stop = None;
