@@ -90,7 +90,10 @@ fn main() {
     named.extend(lens_scenes(&root.join("host-tests/extra-scenes")));
     let first = env_u32("LENSRAY_SAMPLING_FIRST_SEED", 1) as u64;
     for seed in first..first + env_u32("LENSRAY_SAMPLING_GENERATED", 40) as u64 {
-        named.push((format!("generated-lens-{seed}"), lensray_testkit::scenegen::generate_lens(seed)));
+        named.push((
+            format!("generated-lens-{seed}"),
+            lensray_testkit::scenegen::generate_lens(seed),
+        ));
     }
     let rows: Vec<Row> = named
         .iter()
@@ -101,7 +104,8 @@ fn main() {
     println!("{md}");
     let out = std::env::var_os("LENSRAY_SAMPLING_OUT").map_or_else(|| root.join("target/sampling.md"), PathBuf::from);
     write_atomic(&out, md.as_bytes()).unwrap();
-    let plot_path = std::env::var_os("LENSRAY_SAMPLING_PLOT").map_or_else(|| root.join("docs/sampling.png"), PathBuf::from);
+    let plot_path =
+        std::env::var_os("LENSRAY_SAMPLING_PLOT").map_or_else(|| root.join("docs/sampling.png"), PathBuf::from);
     if !plot_path.as_os_str().is_empty() {
         let with: Vec<&Row> = rows.iter().filter(|r| r.curves.is_some()).collect();
         write_atomic(&plot_path, &encode(&plot(&with, w, h), Format::Png).unwrap()).unwrap();
@@ -131,7 +135,11 @@ fn row(name: &str, text: &str, (w, h): (u32, u32), ref_n: u32, curves: bool) -> 
     let (lo, hi) = (default.rays.floor() as u32, default.rays.ceil() as u32);
     let (a, b) = (plain(lo), plain(hi));
     let f = default.rays - lo as f64;
-    let psnr = if hi == lo || a.psnr == b.psnr { b.psnr } else { a.psnr + f * (b.psnr - a.psnr) };
+    let psnr = if hi == lo || a.psnr == b.psnr {
+        b.psnr
+    } else {
+        a.psnr + f * (b.psnr - a.psnr)
+    };
     let stratified = Quality {
         psnr,
         rays: default.rays,
@@ -248,7 +256,11 @@ fn plot(rows: &[&Row], w: u32, h: u32) -> Image {
     let nrows = (rows.len() as u32).div_ceil(per_row).max(1);
     let mut img = Image::filled(PW * per_row, PH * nrows + 30, Rgb888::WHITE);
     let ink = MonoTextStyle::new(&FONT_6X10, Rgb888::BLACK);
-    let (grey, blue, red) = (Rgb888::new(150, 150, 150), Rgb888::new(20, 80, 220), Rgb888::new(220, 30, 30));
+    let (grey, blue, red) = (
+        Rgb888::new(150, 150, 150),
+        Rgb888::new(20, 80, 220),
+        Rgb888::new(220, 30, 30),
+    );
     let title = format!("PSNR (dB) against converged references vs mean rays a pixel (log scale), {w}x{h}, Q16.16");
     let _ = Text::new(&title, Point::new(8, 12), ink).draw(&mut img);
     let legend = "grey: independent, blue: stratified, red dot: default (stratified, adaptive)";
@@ -257,7 +269,12 @@ fn plot(rows: &[&Row], w: u32, h: u32) -> Image {
         let Some(curves) = &r.curves else { continue };
         let (ox, oy) = ((i as u32 % per_row * PW) as i32, (30 + i as u32 / per_row * PH) as i32);
         let (l, t, pw, ph) = (ox + 34, oy + 18, PW as i32 - 46, PH as i32 - 44);
-        let psnrs: Vec<f64> = curves.iter().flatten().map(|x| x.1.psnr).chain([r.default.psnr]).collect();
+        let psnrs: Vec<f64> = curves
+            .iter()
+            .flatten()
+            .map(|x| x.1.psnr)
+            .chain([r.default.psnr])
+            .collect();
         let axis = psnr_axis(psnrs.iter().copied());
         let x_lo = r.default.rays.max(1.0).log2().floor().min(2.0);
         let x_hi = (r.point.max(4) as f64).log2().ceil();
