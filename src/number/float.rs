@@ -618,6 +618,19 @@ mod tests {
     /// of distance over the slope), and its t where the rounded direction
     /// meets the plane. Without
     /// the cold path a slope of 1e-4 puts the point 1e-3 of the distance off.
+    /// A plane of normal `normal` (and `w` in it) `h` ahead of `origin`,
+    /// turned about its normal and scaled at random: its object → world map.
+    fn plane_frame(normal: [f64; 3], w: [f64; 3], origin: [f64; 3], next: &mut impl FnMut() -> f64) -> Mat34 {
+        let e1 = unit(cross(normal, w));
+        let e2 = cross(normal, e1);
+        let h = 0.5 + next() * 100.0;
+        let p0: [f64; 3] = core::array::from_fn(|k| origin[k] + normal[k] * h);
+        let frame = Mat34([0, 1, 2].map(|k| [e1[k], e2[k], normal[k], p0[k]]));
+        let turn = Mat34::rotate(2, next() * 360.0);
+        let scale = [0; 3].map(|_| 0.3 + next() * 5.0);
+        frame.after(&turn).after(&Mat34::scale(scale))
+    }
+
     #[test]
     fn grazing_plane_hits_agree_with_float64() {
         let mut next = crate::test_rng::unit_f64(0x06EA_021E);
@@ -648,17 +661,7 @@ mod tests {
             let normal = unit(core::array::from_fn(|k| {
                 w[k] * libm::sqrt(1.0 - slope * slope) + d[k] * slope
             }));
-            let e1 = unit(cross(normal, w));
-            let e2 = cross(normal, e1);
-            let h = 0.5 + next() * 100.0;
-            let p0: [f64; 3] = core::array::from_fn(|k| origin[k] + normal[k] * h);
-            let frame = Mat34([0, 1, 2].map(|k| [e1[k], e2[k], normal[k], p0[k]]));
-            let to_world = frame.after(&Mat34::rotate(2, next() * 360.0)).after(&Mat34::scale([
-                0.3 + next() * 5.0,
-                0.3 + next() * 5.0,
-                0.3 + next() * 5.0,
-            ]));
-            let inv = to_world.inverse().unwrap();
+            let inv = plane_frame(normal, w, origin, &mut next).inverse().unwrap();
             let rows = inv.0.map(<f32 as Kernels>::row_from_f64);
             // float64's hit.
             let (lo, ld) = (inv.apply(origin, true), inv.apply(d, false));

@@ -639,6 +639,14 @@ impl<S: Scalar> Parser<'_, S> {
                 }
             }
         }
+        if !self.camera_statement(st)? {
+            self.scene_statement(st)?;
+        }
+        Ok(())
+    }
+
+    /// A camera statement; `false` for any other.
+    fn camera_statement(&mut self, st: &Statement<'_>) -> Result<bool, ParseError> {
         let cam = &mut self.scene.camera;
         match st.keyword {
             Keyword::Width => cam.width = st.one_real(positive, GT0)?,
@@ -691,6 +699,15 @@ impl<S: Scalar> Parser<'_, S> {
                 cam.radius = st.one_real(non_negative, GE0)?;
                 self.stop = Stop::Radius;
             }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+
+    /// A scene, light or object statement.
+    fn scene_statement(&mut self, st: &Statement<'_>) -> Result<(), ParseError> {
+        let cam = &mut self.scene.camera;
+        match st.keyword {
             Keyword::AmbientLight => self.scene.ambient = Vec3::from_f64(st.three(non_negative, GE0)?),
             Keyword::Background => {
                 self.scene.background = Vec3::from_f64(st.three(unit_interval, "must be between 0 and 1")?)

@@ -193,9 +193,26 @@ fn comments_line_ends_tabs_bom_and_numbers() {
 /// `(input, line, kind)` for every error kind.
 #[test]
 fn every_error_kind_names_its_line() {
+    let cases = [error_cases_1(), error_cases_2(), error_cases_3(), error_cases_4()].concat();
+    for (text, line, kind) in cases {
+        let got = match Sc::parse_bytes(text) {
+            Ok(_) => panic!("accepted {:?}", std::string::String::from_utf8_lossy(text)),
+            Err(e) => e,
+        };
+        assert_eq!(
+            got,
+            ParseError { line, kind },
+            "{:?}",
+            std::string::String::from_utf8_lossy(text)
+        );
+    }
+}
+
+/// Bad scenes, their line and their error (part 1 of 4).
+fn error_cases_1() -> std::vec::Vec<(&'static [u8], u32, ErrorKind)> {
     use ErrorKind::*;
     let w = word;
-    let cases: std::vec::Vec<(&[u8], u32, ErrorKind)> = vec![
+    vec![
         (
             b"width 10\nligth_position 1 2 3\n",
             2,
@@ -254,6 +271,14 @@ fn every_error_kind_names_its_line() {
                 value: w("nan"),
             },
         ),
+    ]
+}
+
+/// Bad scenes, their line and their error (part 2 of 4).
+fn error_cases_2() -> std::vec::Vec<(&'static [u8], u32, ErrorKind)> {
+    use ErrorKind::*;
+    let w = word;
+    vec![
         (
             b"width 1e3\n",
             1,
@@ -306,6 +331,14 @@ fn every_error_kind_names_its_line() {
                 rule: GE0,
             },
         ),
+    ]
+}
+
+/// Bad scenes, their line and their error (part 3 of 4).
+fn error_cases_3() -> std::vec::Vec<(&'static [u8], u32, ErrorKind)> {
+    use ErrorKind::*;
+    let w = word;
+    vec![
         (
             b"width 0\n",
             1,
@@ -366,6 +399,14 @@ fn every_error_kind_names_its_line() {
         (b"object sphere unobtainium\n", 1, UnknownMaterial(w("unobtainium"))),
         (b"object cube\nrotate w 45\n", 2, UnknownAxis(w("w"))),
         (b"shadows yes\n", 1, NotASwitch("shadows", w("yes"))),
+    ]
+}
+
+/// Bad scenes, their line and their error (part 4 of 4).
+fn error_cases_4() -> std::vec::Vec<(&'static [u8], u32, ErrorKind)> {
+    use ErrorKind::*;
+    let w = word;
+    vec![
         (b"point 70\nadaptive 1\n", 2, NotASwitch("adaptive", w("1"))),
         (b"point 70\nsampler halton\n", 2, UnknownSampler(w("halton"))),
         (b"Kd 1 1 1\n", 1, NoObject { keyword: "Kd" }),
@@ -409,19 +450,7 @@ fn every_error_kind_names_its_line() {
         (b"width 10 # bad \xFF utf-8\n", 1, NotText { byte: 0xFF }),
         (b"width\x0b10\n", 1, NotText { byte: 0x0B }),
         (b"width 1\rwidth 2\n", 1, NotText { byte: b'\r' }),
-    ];
-    for (text, line, kind) in cases {
-        let got = match Sc::parse_bytes(text) {
-            Ok(_) => panic!("accepted {:?}", std::string::String::from_utf8_lossy(text)),
-            Err(e) => e,
-        };
-        assert_eq!(
-            got,
-            ParseError { line, kind },
-            "{:?}",
-            std::string::String::from_utf8_lossy(text)
-        );
-    }
+    ]
 }
 
 #[test]

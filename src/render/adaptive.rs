@@ -297,61 +297,31 @@ pub(crate) fn survey<S: Scalar>(
     // exactly, so they take all of the promised 40 % but the pre-pass's.
     let promise = (pixels * samples as u64 * 2 / 5).saturating_sub(grid * samples as u64);
     let plain = ((promise / pixels) as u32).clamp(1, samples);
-    let mut rays = [0u64; CANDIDATES];
-    let mut errors = [0u64; CANDIDATES];
-    let (mut plain_error, mut count, mut survey_rays) = (0u64, 0u64, 0u64);
+    let mut tally = Tally {
+        rays: [0; CANDIDATES],
+        errors: [0; CANDIDATES],
+        plain_error: 0,
+        count: 0,
+    };
     for (j, y0) in (0..rows).step_by(stride as usize).enumerate() {
         for (i, x0) in (0..cols).step_by(stride as usize).enumerate() {
             // A point of each cell, hashed: a regular grid aliases with
             // regular scenes (a checkerboard).
             let h = cell_hash(i as u32, j as u32);
             let (x, y) = (x0 + h % stride, y0 + (h >> 16) % stride);
-            if x >= cols || y >= rows {
-                continue;
-            }
-            let mut r = Record {
-                estimates: [0; 16],
-                means: [[0; 3]; 16],
-                checks: 0,
-                plain: [0; 3],
-                all: [0; 3],
-            };
-            let mean = run(x, y, pilot.min(plain), &mut |n, sums| {
-                if n == plain {
-                    r.plain = sums.shown(n);
-                }
-                if n >= pilot && n.is_power_of_two() && r.checks < 16 {
-                    (r.estimates[r.checks], r.means[r.checks]) = (sums.estimate(n), sums.shown(n));
-                    r.checks += 1;
-                }
-                false
-            });
-            r.all = shown(mean);
-            if plain == samples {
-                r.plain = r.all;
-            }
-            survey_rays += samples as u64;
-            count += 1;
-            plain_error += squared(r.plain, r.all);
-            for (k, (total, error)) in rays.iter_mut().zip(errors.iter_mut()).enumerate() {
-                let rule = StopRule {
-                    pilot,
-                    threshold: candidate(k),
-                    survey_rays: 0,
-                };
-                let at = (0..r.checks).find(|&c| rule.stops(pilot << c, r.estimates[c]));
-                *total += at.map_or(samples, |c| pilot << c) as u64;
-                *error += at.map_or(0, |c| squared(r.means[c], r.all));
+            if x < cols && y < rows {
+                tally.add(&record(&mut run, (x, y), (pilot, plain, samples)), pilot, samples);
             }
         }
     }
+    let survey_rays = tally.count * samples as u64;
     let budget = (pixels * samples as u64 * BUDGET_EIGHTHS / 8).saturating_sub(survey_rays);
     let best = (0..CANDIDATES)
-        .filter(|&k| rays[k] * pixels <= budget * count)
-        .min_by_key(|&k| errors[k]);
+        .filter(|&k| tally.rays[k] * pixels <= budget * tally.count)
+        .min_by_key(|&k| tally.errors[k]);
     let survey_rays = survey_rays as u32;
     Some(match best {
-        Some(k) if errors[k] <= plain_error => StopRule {
+        Some(k) if tally.errors[k] <= tally.plain_error => StopRule {
             pilot,
             threshold: candidate(k),
             survey_rays,
@@ -362,6 +332,64 @@ pub(crate) fn survey<S: Scalar>(
             survey_rays,
         },
     })
+}
+
+/// Pre-pass pixel (x, y) rendered with every sample by `run`, recorded at
+/// each check from `pilot` and at `plain` rays.
+fn record<S: Scalar>(
+    run: &mut impl FnMut(u32, u32, u32, &mut dyn FnMut(u32, &Sums<S>) -> bool) -> Vec3<S>,
+    (x, y): (u32, u32),
+    (pilot, plain, samples): (u32, u32, u32),
+) -> Record {
+    let mut r = Record {
+        estimates: [0; 16],
+        means: [[0; 3]; 16],
+        checks: 0,
+        plain: [0; 3],
+        all: [0; 3],
+    };
+    let mean = run(x, y, pilot.min(plain), &mut |n, sums| {
+        if n == plain {
+            r.plain = sums.shown(n);
+        }
+        if n >= pilot && n.is_power_of_two() && r.checks < 16 {
+            (r.estimates[r.checks], r.means[r.checks]) = (sums.estimate(n), sums.shown(n));
+            r.checks += 1;
+        }
+        false
+    });
+    r.all = shown(mean);
+    if plain == samples {
+        r.plain = r.all;
+    }
+    r
+}
+
+/// The pre-pass's predictions: for each candidate threshold, its pixels'
+/// rays and squared distance to their every-sample means; the same
+/// distance for plain samples; and how many pixels.
+struct Tally {
+    rays: [u64; CANDIDATES],
+    errors: [u64; CANDIDATES],
+    plain_error: u64,
+    count: u64,
+}
+
+impl Tally {
+    fn add(&mut self, r: &Record, pilot: u32, samples: u32) {
+        self.count += 1;
+        self.plain_error += squared(r.plain, r.all);
+        for (k, (total, error)) in self.rays.iter_mut().zip(self.errors.iter_mut()).enumerate() {
+            let rule = StopRule {
+                pilot,
+                threshold: candidate(k),
+                survey_rays: 0,
+            };
+            let at = (0..r.checks).find(|&c| rule.stops(pilot << c, r.estimates[c]));
+            *total += at.map_or(samples, |c| pilot << c) as u64;
+            *error += at.map_or(0, |c| squared(r.means[c], r.all));
+        }
+    }
 }
 
 /// A colour as shown: each channel clamped to [0, 1], in sixteenths of a level.

@@ -8,9 +8,35 @@ use crate::number::Scalar;
 use crate::render::cull::LensCones;
 use crate::render::defocus::Defocus;
 use crate::scene::shape::Shape;
-use crate::scene::{Hit, Scene, ShadowFrom, ShadowStart};
+use crate::scene::{Hit, Object, Scene, ShadowFrom, ShadowStart};
 
 impl<S: Scalar> Scene<S> {
+    /// An object's ambient and diffuse colours at a hit (normal `n`) of the
+    /// ray `o + t d`: dark squares of its checker at a quarter, the checker
+    /// averaged over the ray's footprint where `footprint` is given.
+    fn textured(
+        obj: &Object<S>,
+        (hit, n): (&Hit<S>, Vec3<S>),
+        (o, d, precise): (Vec3<S>, Vec3<S>, &S::Dir),
+        footprint: Option<(&Defocus<S>, S)>,
+    ) -> (Vec3<S>, Vec3<S>) {
+        let m = &obj.material;
+        let filtered = match footprint {
+            Some((defocus, stratum)) if obj.texture > S::ZERO && stratum > S::ZERO => {
+                obj.checker_filtered(hit, d, n, defocus.width(d, hit.t, stratum))
+            }
+            _ => None,
+        };
+        if let Some(f) = filtered {
+            (m.ka * f, m.kd * f)
+        } else if obj.in_dark_square_of(hit, o, precise) {
+            let q = S::from_q15(8192);
+            (m.ka * q, m.kd * q)
+        } else {
+            (m.ka, m.kd)
+        }
+    }
+
     /// The nearest object hit by the ray `o + t d` (unit `d`) with `t_min < t`.
     pub fn closest_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S) -> Option<(usize, Hit<S>)> {
         self.closest_hit_culled(o, d, S::dir_from(d.to_array()), t_min, None)
@@ -158,20 +184,7 @@ impl<S: Scalar> Scene<S> {
             (p, None)
         };
         let m = &obj.material;
-        let filtered = match footprint {
-            Some((defocus, stratum)) if obj.texture > S::ZERO && stratum > S::ZERO => {
-                obj.checker_filtered(&hit, d, n, defocus.width(d, hit.t, stratum))
-            }
-            _ => None,
-        };
-        let (ka, kd) = if let Some(f) = filtered {
-            (m.ka * f, m.kd * f)
-        } else if obj.in_dark_square_of(&hit, o, &precise) {
-            let q = S::from_q15(8192);
-            (m.ka * q, m.kd * q)
-        } else {
-            (m.ka, m.kd)
-        };
+        let (ka, kd) = Self::textured(obj, (&hit, n), (o, d, &precise), footprint);
         // Every shape is convex: a shadow ray leaving the lit side of its own
         // surface never meets it again, so it is not tested. Seen from
         // inside, the ray crosses the object and the far wall counts.

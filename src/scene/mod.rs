@@ -352,12 +352,9 @@ impl<S: Scalar> Object<S> {
         if !S::within((oc - d * tc).to_array(), radius) {
             return None;
         }
-        // Past the reject only, as most rays miss most objects: the object-space
-        // direction as a unit vector, with the factor between world and object
-        // distances: kept as |A d| where that is 1 or more and as 1 / |A d| where
-        // it is below (a large object's 1/2000 would keep only five bits in
-        // Q16.16, its reciprocal all of them).
-        // Re-origin the ray at the sphere's edge so object-space numbers stay small.
+        // Past the reject only: the object-space unit direction and |A d|
+        // (or its reciprocal below 1: Q16.16 keeps its bits), the ray
+        // re-origined at the sphere's edge so object-space numbers stay small.
         let t_off = tc.sub(radius).max(S::ZERO);
         let (lo, ld, len, inv_len) = if S::LOCAL_FROM_CENTRE {
             // f32: the start's offset from the centre, `t_off d − oc`,
@@ -388,8 +385,7 @@ impl<S: Scalar> Object<S> {
                 break h?;
             }
             again = false;
-            // Near a rim, an edge or a tangent (a
-            // silhouette pixel on the other object).
+            // Near a rim, an edge or a tangent: a silhouette pixel.
             let k = if by_len { len } else { inv_len };
             match self.closest_origin(o, &precise, S::ONE, (lo, ld, base), by_len, k) {
                 Some(p) => (lo, base, rim) = p,
