@@ -2,7 +2,7 @@
 //!
 //! A real iris is made of blades, and an out-of-focus point of light images as
 //! the shape of the opening (the "bokeh"). [`Aperture`] draws lens samples
-//! uniform on that shape in integers, like [`Lfsr::disk_q15`]: Q1.15 points
+//! uniform on that shape in integers, like the register's disc draws: Q1.15 points
 //! from the square by rejection, kept when they lie inside every edge's
 //! half-plane. The edges' integer coefficients are computed once at set-up, so
 //! the draw itself is a few integer multiply-adds, the same for the Q16.16
@@ -30,7 +30,7 @@ const NORMAL_ONE: f64 = 16384.0;
 /// Where lens samples fall: the unit disk or a regular polygon inscribed in it.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct Aperture {
-    /// 0 for round, else the number of sides (3..=[`MAX_BLADES`]).
+    /// 0 for round, else the number of sides (3..=`MAX_BLADES` (16)).
     blades: u8,
     /// Edge `i` keeps the Q1.15 points with `a x + b y <= c`: (a, b) the
     /// outward unit normal in Q1.14, c = `inradius`.
@@ -64,7 +64,7 @@ impl Default for Aperture {
 }
 
 impl Aperture {
-    /// The round lens: samples from [`Lfsr::disk_q15`].
+    /// The round lens: samples from the register's disc draws.
     pub const ROUND: Aperture = Aperture {
         blades: 0,
         edges: [(0, 0); MAX_BLADES as usize],
@@ -76,7 +76,7 @@ impl Aperture {
     /// corner at `rotation_degrees` from the u axis (counter-clockwise, towards v).
     ///
     /// `blades` 0 (and 1 or 2, which make no polygon) gives [`Aperture::ROUND`];
-    /// more than [`MAX_BLADES`] is clamped to it. Set-up only (f64 sin and cos).
+    /// more than `MAX_BLADES` (16) is clamped to it. Set-up only (f64 sin and cos).
     pub fn regular(blades: u32, rotation_degrees: f64) -> Self {
         if blades < 3 {
             return Aperture::ROUND;
@@ -142,37 +142,6 @@ impl Aperture {
         }
     }
 
-    /// The `v` of [`Aperture::map_q16`] whose rim point lies in direction
-    /// (`x`, `y`) from the centre (not both 0): a turn of the disk, or the
-    /// polygon's sector and the place along its chord, the inverse of the
-    /// map's rim. Integers only (a lamp's part of the lens, per pixel: see
-    /// [`crate::render::lamps`]).
-    pub fn v_toward(&self, x: i64, y: i64) -> u16 {
-        // Within ±2²⁴: the cross products below stay within an i64 shifted by 16.
-        let (mut x, mut y) = (x, y);
-        while x.unsigned_abs() >= 1 << 24 || y.unsigned_abs() >= 1 << 24 {
-            (x, y) = (x >> 1, y >> 1);
-        }
-        if self.blades == 0 {
-            return turn_toward(x, y);
-        }
-        let n = self.blades as usize;
-        let corner = |i: usize| self.corners.get(i).copied().unwrap_or_default();
-        // cross(corner, (x, y)): ≥ 0 counter-clockwise of it.
-        let cross = |c: (i16, i16)| c.0 as i64 * y - c.1 as i64 * x;
-        for k in 0..n {
-            let next = if k + 1 == n { 0 } else { k + 1 };
-            let (a, b) = (cross(corner(k)), cross(corner(next)));
-            // Sectors under half a turn: this test holds in one of them.
-            if a >= 0 && b < 0 {
-                // Where the ray meets the chord a + f (b − a): f = a / (a − b), in 2⁻¹⁶.
-                let f = ((a << 16) / (a - b)).min(0xFFFF) as u64;
-                return ((((k as u64) << 16) | f) / n as u64) as u16;
-            }
-        }
-        0
-    }
-
     /// The radius of the disc of this aperture's area, the unit circle's
     /// radius 1: √(n sin(2π/n) / 2π) for n blades (a triangle's 0.64), 1 for
     /// round. Set-up only (f64).
@@ -183,15 +152,6 @@ impl Aperture {
         let n = self.blades as f64;
         let (s, _) = sin_cos_degrees(360.0 / n);
         libm::sqrt(n * s / (2.0 * core::f64::consts::PI))
-    }
-
-    /// The inradius, Q1.15: 32768 for the disk, cos(π/n) for a polygon.
-    pub fn inradius_q15(&self) -> i32 {
-        if self.blades == 0 {
-            32768
-        } else {
-            self.inradius >> 14
-        }
     }
 
     /// Number of sides; 0 for round.
@@ -214,7 +174,7 @@ impl Aperture {
     }
 
     /// A lens point uniform on the aperture, in Q1.15, by rejection from the
-    /// square. The round aperture draws exactly as [`Lfsr::disk_q15`].
+    /// square. The round aperture draws exactly as the register's disc draws.
     ///
     /// After 64 rejections in a row (below 10⁻¹⁰ even for a triangle, which
     /// keeps 32 % of draws) it returns the centre, so the call always ends.
@@ -252,33 +212,6 @@ pub fn isqrt_u32(x: u32) -> u32 {
         bit >>= 2;
     }
     root
-}
-
-/// The turn (2⁻¹⁶ of a full one) of direction (`x`, `y`) (within ±2²⁴, not
-/// both 0), by bisection on [`sin_q15`] within the octant: the inverse of
-/// the disk's rim (cos, sin) to a few units.
-fn turn_toward(x: i64, y: i64) -> u16 {
-    let (ax, ay) = (x.abs(), y.abs());
-    let (big, small) = if ax >= ay { (ax, ay) } else { (ay, ax) };
-    // The least α in [0, ⅛ turn] with small · cos α <= big · sin α.
-    let (mut lo, mut hi) = (0u32, 0x2000u32);
-    while lo < hi {
-        let m = (lo + hi) / 2;
-        let (s, c) = (sin_q15(m as u16) as i64, sin_q15((m + 0x4000) as u16) as i64);
-        if small * c <= big * s {
-            hi = m;
-        } else {
-            lo = m + 1;
-        }
-    }
-    let t = if ax >= ay { lo } else { 0x4000 - lo };
-    let t = match (x >= 0, y >= 0) {
-        (true, true) => t,
-        (false, true) => 0x8000 - t,
-        (false, false) => 0x8000 + t,
-        (true, false) => 0x1_0000 - t,
-    };
-    t as u16
 }
 
 /// sin(2π k / 1024) · 32767 rounded, k = 0..=256: a quarter wave (514 bytes of flash).
@@ -476,24 +409,6 @@ mod tests {
         // Polygons: inside, and uniform over the cells of the rejection test above.
         for (n, rot) in [(3, 90.0), (5, 0.0), (6, 15.0), (16, 7.0)] {
             assert_inside_and_uniform(n, rot, mapped(&Aperture::regular(n, rot)));
-        }
-    }
-
-    /// `v_toward` inverts the rim: the `v` of a rim point's direction is
-    /// that point's `v`, to a few units, for the disk and the polygons, at
-    /// any length of the direction.
-    #[test]
-    fn v_toward_inverts_the_rim() {
-        for (blades, rot) in [(0u32, 0.0), (3, 90.0), (5, -30.0), (6, 15.0), (9, 7.0), (16, 0.0)] {
-            let ap = Aperture::regular(blades, rot);
-            for v in (0..65536u32).step_by(37) {
-                let (x, y) = ap.rim(v as u16);
-                for scale in [1i64, 3, 1 << 20] {
-                    let back = ap.v_toward(x as i64 * scale, y as i64 * scale);
-                    let off = back.wrapping_sub(v as u16) as i16;
-                    assert!(off.abs() <= 3, "blades {blades}: v {v} -> {back} ({off})");
-                }
-            }
         }
     }
 }

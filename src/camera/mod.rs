@@ -84,7 +84,7 @@ pub struct CameraParams {
     pub radius: f64,
     /// Blades of the aperture (`aperture_blades`): 0 is a round aperture, else
     /// the lens is a regular polygon of that many sides (3 to
-    /// [`crate::camera::aperture::MAX_BLADES`]) inscribed in the circle of radius a.
+    /// 16) inscribed in the circle of radius a.
     pub aperture_blades: u32,
     /// Rotation of the aperture polygon in degrees (`aperture_rotation`): at 0
     /// a corner points along the camera's u (right); positive turns towards v (up).
@@ -303,10 +303,10 @@ impl<S: Scalar> Camera<S> {
 /// lens the ray leaves.
 #[derive(Copy, Clone, Debug)]
 pub struct CameraSample<'a, S: Scalar> {
-    /// The pixel's film point ([`Camera::film_point`]), shared by its rays.
+    /// The pixel's film point (the camera's film point), shared by its rays.
     pub film: &'a FilmPoint<S>,
     /// The lens point `(s_x, s_y)` (Q1.15, on the unit disk; see
-    /// [`Camera::lens_sample`]), or `None` for the chief ray through the lens
+    /// the renderer's sampler), or `None` for the chief ray through the lens
     /// centre (a pinhole's only ray).
     pub lens: Option<(i32, i32)>,
 }

@@ -2,21 +2,23 @@
 //!
 //! Three mechanisms, each on that page with its reasoning:
 //!
-//! 1. **An error estimate at every doubling.** The stratified sampler's
-//!    first n points are a (0,2)-net for every power of two n, and so are
-//!    its first n/2. Past a pilot, at each power of two n a pixel compares
-//!    the mean of its first n/2 rays with the mean of all n (Cycles'
-//!    adaptive sampling): half their difference estimates the error of the
-//!    mean of n.
+//! 1. **An error estimate at every doubling.** Every block of 2^m
+//!    consecutive points of the stratified sampler is a (0,2)-net. Past a
+//!    pilot, at each power of two n a pixel splits its rays into
+//!    [`BLOCKS`] blocks of n/8 and takes the standard error of their means
+//!    (Cycles' adaptive sampling compares two halves: one degree of
+//!    freedom where eight blocks give seven).
 //! 2. **A stop rule that spends rays where they lower the error most.**
 //!    Doubling from n rays lowers the squared error by about half of it for
 //!    n more rays. A pixel goes on while that gain per ray is above the
 //!    frame's price, that is while its estimate is above a threshold times
 //!    √(n / pilot) ([`StopRule::stops`]).
 //! 3. **A pre-pass that sets the threshold.** A grid of pixels renders
-//!    every sample and records its estimates; the threshold is the lowest
-//!    whose predicted rays, with the pre-pass's own, stay within
-//!    [`BUDGET_EIGHTHS`] eighths of `point` a pixel ([`survey`]).
+//!    every sample and records its estimates and means; the rule is the
+//!    threshold of least predicted squared error whose predicted rays, the
+//!    pre-pass's included, stay within [`BUDGET_EIGHTHS`] eighths of
+//!    `point` a pixel, or plain samples within 40 % where they predict less
+//!    error (the pre-pass, `survey`).
 //!
 //! Everything is integer arithmetic on the number type's own colours: the
 //! Q16.16 renderer decides in Q16.16, the f32 one in f32, each bit for bit
