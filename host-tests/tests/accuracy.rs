@@ -222,13 +222,15 @@ fn floor_checker(p: [f64; 2], v: V, w: f64) -> Option<f64> {
 }
 
 /// The strata of the lens that ray `k` of a pixel stands for (its
-/// footprint's): with a stop rule's `pilot`, the pilot's until the first
-/// check, then twice the rays at the last check, held to `samples` rounded
-/// down to a power of two; without one, that many (src/render/adaptive.rs).
+/// footprint's): with a stop rule's `pilot`, the pilot's (rounded down to a
+/// power of two) until the first power of two from it, then twice the last
+/// such power of two, held to `samples` rounded down to a power of two;
+/// without one, that many (src/render/adaptive.rs).
 fn strata_of_ray(k: u32, samples: u32, pilot: Option<u32>) -> u32 {
-    let finest = 1 << (31 - samples.leading_zeros());
+    let pow2 = |n: u32| 1 << (31 - n.max(1).leading_zeros());
+    let finest = pow2(samples);
     let Some(pilot) = pilot else { return finest };
-    let mut strata = pilot.min(finest);
+    let mut strata = pow2(pilot).min(finest);
     for n in 1..=k {
         if n.is_power_of_two() && n >= pilot && n < samples {
             strata = (2 * n).min(finest);
