@@ -295,8 +295,10 @@ impl<S: BakeScalar> Baked<S> {
         }
         // The statements the renderer still reads from the scene's camera.
         if let Some(rule) = self.stop {
-            if !rule.pilot.is_power_of_two() || rule.pilot > self.samples {
-                return r.out_of_range("stop rule's pilot is not a power of two within the samples");
+            // A threshold's checks come at powers of two; plain samples stop anywhere.
+            let plain = rule.threshold == u32::MAX;
+            if rule.pilot == 0 || rule.pilot > self.samples || !(plain || rule.pilot.is_power_of_two()) {
+                return r.out_of_range("stop rule's pilot is not within the samples");
             }
         }
         self.scene.camera.samples = self.samples;

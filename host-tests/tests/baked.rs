@@ -315,8 +315,10 @@ fn an_adaptive_frame_keeps_its_stop_rule_after_baking() {
     }
 }
 
-/// A frame without a stop rule (too few samples for two pilots, or
-/// `adaptive off`) bakes none, and every pixel casts all its samples.
+/// A frame without a stop rule (one sample, or `adaptive off`) bakes none,
+/// and every pixel casts all its samples; a frame with too few samples for
+/// two pilots bakes plain samples within 40 % (no threshold), and every
+/// pixel casts those.
 #[test]
 fn a_frame_without_a_stop_rule_bakes_none() {
     let path = scenes()
@@ -326,14 +328,20 @@ fn a_frame_without_a_stop_rule_bakes_none() {
     let text = String::from_utf8(std::fs::read(&path).unwrap()).unwrap();
     let q = Scene::<I16F16>::parse(&text).unwrap();
     let off = Scene::<I16F16>::parse(&format!("{text}\nadaptive off\n")).unwrap();
-    for (scene, samples) in [(&q, 2), (&q, 7), (&off, 40)] {
+    for (scene, samples, cast) in [(&q, 1, 1), (&off, 40, 40), (&q, 7, 2), (&q, 15, 6)] {
         let r = Renderer::new_with_samples(scene, 24, 18, Some(samples));
-        assert_eq!(r.stop_rule(), None, "{samples} samples");
+        let plain = (cast < samples).then_some(lensray::StopRule {
+            pilot: cast,
+            threshold: u32::MAX,
+            survey_rays: 0,
+        });
+        assert_eq!(r.stop_rule(), plain, "{samples} samples");
         let mut loaded = Baked::<I16F16>::empty();
         loaded.load(&baked_bytes(&r)).unwrap();
         let again = loaded.renderer();
-        assert_eq!(again.stop_rule(), None);
+        assert_eq!(again.stop_rule(), plain);
+        assert_eq!(again.rays_per_pixel(), cast);
         let mut row = vec![Default::default(); 24];
-        assert_eq!(again.render_row(9, &mut row), 24 * samples);
+        assert_eq!(again.render_row(9, &mut row), 24 * cast);
     }
 }

@@ -133,6 +133,9 @@ impl<S: Scalar> Sums<S> {
     /// n/G points), as the standard error of their mean, summed in
     /// quadrature over channels, in sixteenths of a level, rounded down.
     pub(crate) fn estimate(&self, n: u32) -> u32 {
+        if n < 2 {
+            return 0;
+        }
         let g = n.min(BLOCKS as u32) as u64;
         let size = (n as u64) / g;
         let spread: u64 = (0..3)
