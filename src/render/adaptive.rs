@@ -54,26 +54,28 @@ const CANDIDATES: usize = 57;
 /// When a pixel stops taking lens rays: set once a frame by the pre-pass.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct StopRule {
-    /// Rays every pixel casts before its first check: a power of two.
+    /// Rays every pixel casts before its first check: a power of two, or,
+    /// with a threshold of `u32::MAX`, the rays every pixel casts.
     pub pilot: u32,
-    /// The error a pixel may keep at its pilot, in 256ths of an 8-bit level
-    /// summed over red, green and blue; √(n / pilot) times it at n rays.
+    /// The error a pixel may keep at its pilot: its estimated standard
+    /// error in sixteenths of an 8-bit level, red, green and blue in
+    /// quadrature; √(n / pilot) times it at n rays. `u32::MAX`: plain
+    /// samples, every pixel stops at the pilot.
     pub threshold: u32,
-    /// Rays the pre-pass cast to choose the threshold.
+    /// Rays the pre-pass cast to choose the rule.
     pub survey_rays: u32,
 }
 
 impl StopRule {
-    /// Whether a pixel whose estimate at `n` rays is `estimate` (256ths of a
-    /// level, summed over channels) stops there: `estimate ≤ threshold ·
-    /// √(n / pilot)`, squared into integers.
+    /// Whether a pixel whose estimate at `n` rays is `estimate` (in the
+    /// threshold's units) stops there: `estimate ≤ threshold · √(n / pilot)`,
+    /// squared into integers (saturating).
     pub fn stops(&self, n: u32, estimate: u32) -> bool {
         if self.threshold == u32::MAX {
             return true;
         }
-        let e = estimate as u64;
-        let t = self.threshold as u64;
-        e * e * self.pilot as u64 <= t * t * n as u64
+        let (e, t) = (estimate as u64, self.threshold as u64);
+        (e * e).saturating_mul(self.pilot as u64) <= (t * t).saturating_mul(n as u64)
     }
 }
 
