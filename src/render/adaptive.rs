@@ -148,7 +148,7 @@ impl<S: Scalar> Sums<S> {
                 (g * squares).saturating_sub(sum * sum)
             })
             .sum();
-        isqrt(spread / (g * g * (g - 1) * size * size)) as u32
+        crate::number::wide::isqrt_rem_u64(spread / (g * g * (g - 1) * size * size)).0 as u32
     }
 
     /// After a check at `n` rays: from [`BLOCKS`] rays on, pairs of blocks
@@ -174,24 +174,6 @@ impl<S: Scalar> Sums<S> {
     fn shown(&self, n: u32) -> [u32; 3] {
         shown(self.mean(n))
     }
-}
-
-/// ⌊√v⌋, bit by bit.
-fn isqrt(mut v: u64) -> u64 {
-    let (mut root, mut bit) = (0u64, 1u64 << 62);
-    while bit > v {
-        bit >>= 2;
-    }
-    while bit != 0 {
-        if v >= root + bit {
-            v -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
-        }
-        bit >>= 2;
-    }
-    root
 }
 
 /// A lens pixel's mean colour and the rays it cast: `cast(strata)` casts
