@@ -1,13 +1,17 @@
 #!/usr/bin/env bash
-# Lens sampling alone: PSNR against converged references as a function of mean
-# rays a pixel, independent against stratified lens samples, and the default
-# render (stratified, adaptive), for every lens scene in scenes/ (and the
-# scenes in LENSRAY_SAMPLING_EXTRA, a folder, when set). Prints the table,
-# writes it to target/sampling.md and the plot to docs/sampling.png.
+# Lens sampling alone (the "Lens sampling" section of BENCHMARKS.md): the
+# default render (stratified, adaptive) of every lens scene in scenes/ and
+# host-tests/extra-scenes/ and of forty generated lens scenes, against
+# converged references, beside `point` independent samples and plain
+# stratified samples at the same rays; the floors as distributions (min,
+# median, max). Prints the tables, writes them to target/sampling.md and the
+# curves of scenes/ to docs/sampling.png.
 #   bash scripts/bench-sampling.sh
-# Settings: LENSRAY_SAMPLING_WIDTH (320), LENSRAY_SAMPLING_REFERENCE (2048).
-# The first run renders the references (about 10 minutes on 2 cores at
-# 320x240) and caches them in target/converged/; later runs take about 2.
+# Settings: LENSRAY_SAMPLING_WIDTH (320), LENSRAY_SAMPLING_REFERENCE (2048),
+# LENSRAY_SAMPLING_FIRST_SEED (31000) and LENSRAY_SAMPLING_GENERATED (40):
+# the generated block (a fresh block: seeds never rendered before).
+# References are rendered once (about a minute a scene at 320x240 on 2
+# cores) and cached in target/converged/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo bench -q -p lensray-host --bench sampling
+LENSRAY_SAMPLING_FIRST_SEED=${LENSRAY_SAMPLING_FIRST_SEED:-31000} cargo bench -q -p lensray-host --bench sampling

@@ -11,9 +11,10 @@
 #   and all cores, with the machine's load, and the parallel speedup measured
 #   in pairs beside the machine's ceiling for the same work (whole frames side
 #   by side: host-tests/benches/speedup.rs);
-# - lens sampling: PSNR against converged references by rays a pixel,
-#   independent against stratified, and the default adaptive render
-#   (host-tests/benches/sampling.rs, also docs/sampling.png).
+# - lens sampling: the adaptive render against converged references, beside
+#   `point` independent samples and plain stratified samples at its rays, as
+#   distributions over the scenes (host-tests/benches/sampling.rs; the curves
+#   of scenes/ in docs/sampling.png).
 # Takes about 15-25 minutes on 2 cores (firmware builds with fat LTO dominate).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -77,7 +78,9 @@ for board in microbit mps2-an386; do
       step "$board: Program 1 $mode $number"
       log="$work/$board-$mode-$number.log"
       "$lensray" emulate "$scene" "${args[@]}" -o "$work/$board-$mode-$number.bmp" >"$log"
-      read -r text data bss _ < <("$size_tool" "firmware/target/$target/release/lensray-firmware" | tail -1)
+      # The micro:bit builds with its own profile, compiled for size (firmware/Cargo.toml).
+      profile_dir=$([ $board = microbit ] && echo microbit || echo release)
+      read -r text data bss _ < <("$size_tool" "firmware/target/$target/$profile_dir/lensray-firmware" | tail -1)
       pp=$(field "$log" per_pixel)
       frame=$(field "$log" frame)
       rays=$(field "$log" rays)
@@ -92,7 +95,7 @@ done
 step "microbit: per-operation profile (firmware feature profile)"
 profile() { # scene width height samples -> profile lines
   (cd firmware && LENSRAY_SCENE="$1" LENSRAY_WIDTH=$2 LENSRAY_HEIGHT=$3 LENSRAY_SAMPLES=$4 \
-    cargo run -q --release --features microbit,profile --target thumbv6m-none-eabi)
+    cargo run -q --profile microbit --features microbit,profile --target thumbv6m-none-eabi)
 }
 profile "$work/program1-pinhole.scene" 80 60 1 >"$work/profile-pinhole.log"
 profile "$work/program1-lens.scene" 40 30 16 >"$work/profile-lens16.log"
@@ -136,7 +139,10 @@ floor_speedup=$(awk -v r="$min_speedup" 'BEGIN { print (r >= 1.8) ? "met" : "NOT
 # Lens sampling against converged references (host-tests/benches/sampling.rs;
 # alone: bash scripts/bench-sampling.sh). References are cached in target/converged/.
 step "host: lens sampling against converged references (host-tests/benches/sampling.rs)"
-LENSRAY_SAMPLING_OUT="$work/sampling.md" cargo bench -q -p lensray-host --bench sampling >&2
+# Forty generated lens scenes from seed 31000 (a block whose references the
+# sampling campaign of issue 53 cached), with every lens scene of scenes/ and
+# host-tests/extra-scenes/.
+LENSRAY_SAMPLING_FIRST_SEED=31000 LENSRAY_SAMPLING_OUT="$work/sampling.md" cargo bench -q -p lensray-host --bench sampling >&2
 
 step "writing $out"
 {
@@ -247,8 +253,9 @@ step "writing $out"
   echo
   echo "## Lens sampling"
   echo
-  echo "\`cargo bench -p lensray-host --bench sampling\` (alone: \`bash scripts/bench-sampling.sh\`;"
-  echo "plot: [docs/sampling.png](docs/sampling.png)). Every lens scene of \`scenes/\`."
+  echo "\`LENSRAY_SAMPLING_FIRST_SEED=31000 cargo bench -p lensray-host --bench sampling\` (alone: \`bash scripts/bench-sampling.sh\`;"
+  echo "plot: [docs/sampling.png](docs/sampling.png)). Every lens scene of \`scenes/\` and"
+  echo "\`host-tests/extra-scenes/\`, and forty of the scene generator's lens scenes."
   echo
   cat "$work/sampling.md"
 } >"$out"
