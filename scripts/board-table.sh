@@ -39,6 +39,9 @@ secs="| board (core) | clock (class) | Program 1 pinhole 320x240, Q16.16 | f32 |
 |---|---|---|---|"
 for b in "${boards[@]}"; do
   read -r board core target mhz note <<<"$b"
+  # The firmware's cargo profile for the board (lensray emulate builds with it).
+  profile=release
+  [ "$board" = microbit ] && profile=microbit
   declare -A pp=()
   for number in q16 f32; do
     extra=()
@@ -47,14 +50,14 @@ for b in "${boards[@]}"; do
     "$lensray" emulate "$work/program1-pinhole.scene" --board "$board" --width $W --height $H "${extra[@]}" -o "$work/p.bmp" >"$work/pin.log"
     flash=$(field "$work/pin.log" flash)
     # .text + .rodata of the ELF that just ran (flash in the report also counts .data's image).
-    ft=$("$size_tool" -A "firmware/target/$target/release/lensray-firmware" | awk '$1 == ".text" || $1 == ".rodata" || $1 == ".vector_table" { s += $2 } END { print s }')
+    ft=$("$size_tool" -A "firmware/target/$target/$profile/lensray-firmware" | awk '$1 == ".text" || $1 == ".rodata" || $1 == ".vector_table" { s += $2 } END { print s }')
     "$lensray" emulate "$work/program1-lens.scene" --board "$board" --width $W --height $H --samples 16 "${extra[@]}" -o "$work/l.bmp" >"$work/lens.log"
     frame=$(field "$work/lens.log" frame)
     per_ray=$(( (frame + W * H * 8) / (W * H * 16) ))
     parsed_flash="-"; parsed_stack="-"
     if [ $number = q16 ]; then
       "$lensray" emulate "$work/program1-pinhole.scene" --board "$board" --width $W --height $H --parse-on-device -o "$work/pp.bmp" >"$work/parsed.log"
-      parsed_flash=$("$size_tool" -A "firmware/target/$target/release/lensray-firmware" | awk '$1 == ".text" || $1 == ".rodata" || $1 == ".vector_table" { s += $2 } END { print s }')
+      parsed_flash=$("$size_tool" -A "firmware/target/$target/$profile/lensray-firmware" | awk '$1 == ".text" || $1 == ".rodata" || $1 == ".vector_table" { s += $2 } END { print s }')
       parsed_stack=$(field "$work/parsed.log" peak_stack)
     fi
     pp[$number]=$(field "$work/pin.log" per_pixel)

@@ -5,7 +5,7 @@
 # and rp2040js; the RISC-V target and qemu-system-riscv32), then: format and lint of the firmware crates (outside the main
 # workspace, so the workspace's clippy does not see them), the QEMU tests (both
 # boards, bit for bit against the host's render, instruction counts, RAM,
-# faults), the Raspberry Pi Pico under rp2040js (its ST7789 model's own tests,
+# faults, the micro:bit's 40 KiB flash floor), the Raspberry Pi Pico under rp2040js (its ST7789 model's own tests,
 # then the panel bit for bit against the host's Rgb565 render, and faults) and
 # the memory sizes.
 set -euo pipefail
@@ -51,11 +51,12 @@ start=$(date +%s)
 cargo test -p lensray-host --test pico -- --ignored --nocapture
 echo "Pico tests took $(( $(date +%s) - start )) s (builds included)"
 
-step "firmware: memory of the default build (Program 1, 160x120, 4 rays a pixel)"
+step "firmware: memory of the default build (Program 1 baked at its defaults, 160x120)"
 cd "$root/firmware"
-for board in "microbit thumbv6m-none-eabi microbit" "mps2-an386 thumbv7em-none-eabihf mps2-an386,hw-sqrt" "sifive-e riscv32imac-unknown-none-elf sifive-e"; do
+# board target features profile
+for board in "microbit thumbv6m-none-eabi microbit microbit" "mps2-an386 thumbv7em-none-eabihf mps2-an386,hw-sqrt release" "sifive-e riscv32imac-unknown-none-elf sifive-e release"; do
   set -- $board
-  LENSRAY_SAMPLES=4 cargo build -q --release --features "$3" --target "$2"
+  cargo build -q --profile "$4" --features "$3" --target "$2"
   echo "$1 (text + data = flash; data + bss = static RAM; the stack is measured by the tests above):"
-  "$size_tool" "target/$2/release/lensray-firmware"
+  "$size_tool" "target/$2/$4/lensray-firmware"
 done

@@ -22,6 +22,8 @@ mod profile;
 #[cfg(target_arch = "riscv32")]
 mod riscv_start;
 mod row_file;
+#[cfg(feature = "microbit")]
+mod runtime;
 
 #[cfg(feature = "parse-on-device")]
 use core::fmt::Write;

@@ -101,6 +101,12 @@ fn host_render<S: Scalar + Send + Sync>(path: &Path, run: &Run) -> Image {
     render_image(&scene, run.width, run.height, run.samples, &|| {})
 }
 
+/// The host renderer's [`Renderer::rays_per_pixel`](lensray::Renderer::rays_per_pixel) for `run`.
+fn host_rays<S: Scalar>(path: &Path, run: &Run) -> u32 {
+    let scene = load_scene::<S>(path).unwrap();
+    lensray::Renderer::new_with_samples(&scene, run.width, run.height, run.samples).rays_per_pixel()
+}
+
 /// Runs `lensray emulate` and checks its image against the host's render.
 fn emulate_and_compare(run: &Run) -> Outcome {
     let out = tmp(&format!(
@@ -164,6 +170,15 @@ fn emulate_and_compare(run: &Run) -> Outcome {
     assert_eq!(outcome.report.get("board").map(String::as_str), Some(run.board));
     assert_eq!(outcome.get("width"), run.width as u64);
     assert_eq!(outcome.get("height"), run.height as u64);
+    // The most rays a pixel casts, as the host's renderer has them (the
+    // scene's `point` or `--samples`, 1 through a pinhole, fewer where the
+    // pre-pass chose plain samples).
+    let rays = if run.float {
+        host_rays::<f32>(&path, run)
+    } else {
+        host_rays::<I16F16>(&path, run)
+    };
+    assert_eq!(outcome.get("rays"), rays as u64, "{}", outcome.stdout);
     let number = if run.float { f32::NAME } else { I16F16::NAME };
     assert_eq!(outcome.report.get("number").map(String::as_str), Some(number));
     // Instructions per pixel is the frame over the pixels, and the summary line says it.
@@ -244,6 +259,17 @@ fn program1_pinhole(board: &str) -> &'static str {
 /// its defaults, 160x120): 40 KiB of .text + .rodata + .data.
 const MICROBIT_FLASH: u64 = 40 * 1024;
 
+/// The micro:bit's floor for Program 1 through a pinhole, instructions a
+/// pixel at 160x120. Issue 15's was 6,889 (6,793 measured), with the exact
+/// retakes (docs/accuracy.md, fixes 16 to 18) left out of the micro:bit's
+/// build. Since issue 53 every board runs them (one code path) and the
+/// micro:bit's default build is held to 40 KiB of flash: compiled for size
+/// (firmware/Cargo.toml's `microbit` profile) with the Cortex-M0's products,
+/// divisions and bit counts in one out-of-line copy each
+/// (src/number/wide.rs), it measures 8,377 (7,082 at opt-level 2 with all
+/// in place, 54 KB of flash).
+const MICROBIT_PINHOLE: u64 = 8600;
+
 /// Program 1's adaptive frame at `width` x `height` and `samples` on the
 /// host: its stop rule (the pre-pass in `Renderer::new`), checked to be
 /// at work (pixels stop at different counts).
@@ -285,7 +311,7 @@ fn microbit_renders_bit_for_bit_in_16k_of_ram() {
         run(PROGRAM1, 160, 120, Some(4), true),
         run(program1_pinhole, 160, 120, None, false),
         run(PROGRAM1, 160, 120, Some(4), false),
-        // Too few samples for a stop rule: every pixel casts both.
+        // Too few samples for two pilots: no threshold, plain samples as the host has them.
         run(PROGRAM1, 64, 48, Some(2), false),
     ];
     let outcomes: Vec<Outcome> = runs.iter().map(emulate_and_compare).collect();
@@ -305,18 +331,15 @@ fn microbit_renders_bit_for_bit_in_16k_of_ram() {
         flash <= MICROBIT_FLASH,
         "Program 1 baked needs {flash} bytes of flash (floor {MICROBIT_FLASH})"
     );
-    // Issue 15: Program 1's pinhole count no worse than before (6,889 instructions
-    // a pixel); exact under -icount, so no wall clock is involved.
+    // Program 1's pinhole count (exact under -icount, so no wall clock is
+    // involved) at most MICROBIT_PINHOLE instructions a pixel.
     let pinhole = outcomes[3].get("per_pixel");
     assert!(
-        pinhole <= 6889,
-        "Program 1 pinhole takes {pinhole} instructions a pixel"
+        pinhole <= MICROBIT_PINHOLE,
+        "Program 1 pinhole takes {pinhole} instructions a pixel (floor {MICROBIT_PINHOLE})"
     );
     assert_eq!(outcomes[3].get("rays"), 1);
-    assert_eq!(outcomes[0].get("rays"), 70);
     assert_eq!(outcomes[1].get("rays"), 1);
-    assert_eq!(outcomes[4].get("rays"), 4);
-    assert_eq!(outcomes[5].get("rays"), 2);
     record("microbit", &runs.iter().zip(&outcomes).collect::<Vec<_>>());
 }
 
@@ -348,7 +371,6 @@ fn every_board_renders_the_hosts_image_at_the_scenes_defaults() {
             soft_sqrt: false,
         };
         let o = emulate_and_compare(&run);
-        assert_eq!(o.get("rays"), 70);
         rows.push((run, o));
     }
     record("defaults", &rows.iter().map(|(r, o)| (r, o)).collect::<Vec<_>>());
@@ -440,7 +462,6 @@ fn bit_for_bit_on(board: &'static str, seed: u64, count: usize, pinhole_floor: u
         runs.push(run(s, 48, 36, Some(2), k % 2 == 1));
     }
     let outcomes: Vec<Outcome> = runs.iter().map(emulate_and_compare).collect();
-    assert_eq!(outcomes[0].get("rays"), 4);
     assert_eq!(outcomes[1].get("rays"), 1);
     // Exact under -icount, so no wall clock is involved.
     let pinhole = outcomes[4].get("per_pixel");

@@ -9,7 +9,7 @@
 
 use crate::number::plane::{below_q16, round_f64, unit_mantissas};
 use crate::number::q16::{shr_round, shr_round_call, FixedDir};
-use crate::number::wide::{bits_u64_inline, mul_i32};
+use crate::number::wide::{bits_u64_inline, mul_i32, mul_i32_inline};
 use fixed::types::I16F16;
 
 /// The map's exact parts, from the camera's set-up (world space).
@@ -157,7 +157,13 @@ impl FixedFilmMap {
     /// `D(i, j)` exactly, at scale `2^-(s + f)`.
     #[inline]
     pub fn film(&self, i: i32, j: i32) -> [i64; 3] {
-        [0, 1, 2].map(|k| mul_i32(self.a[k], i) + mul_i32(self.b[k], j) + self.c[k])
+        // Constant indices, written out: no bounds check (and no panic path) at any opt-level.
+        let (a, b, c) = (&self.a, &self.b, &self.c);
+        [
+            mul_i32(a[0], i) + mul_i32(b[0], j) + c[0],
+            mul_i32(a[1], i) + mul_i32(b[1], j) + c[1],
+            mul_i32(a[2], i) + mul_i32(b[2], j) + c[2],
+        ]
     }
 
     /// The unit direction along `D − s_x k_u − s_y k_v` for a film direction
@@ -172,7 +178,12 @@ impl FixedFilmMap {
         } else {
             // Lens terms are exact at 2^-(s + 15): Q1.15 times the i32 parts.
             let up = 15 - self.f;
-            let w = [0, 1, 2].map(|k| (film[k] << up) - mul_i32(lens.0, self.k_u[k]) - mul_i32(lens.1, self.k_v[k]));
+            let (u, v) = (&self.k_u, &self.k_v);
+            let w = [
+                (film[0] << up) - mul_i32_inline(lens.0, u[0]) - mul_i32_inline(lens.1, v[0]),
+                (film[1] << up) - mul_i32_inline(lens.0, u[1]) - mul_i32_inline(lens.1, v[1]),
+                (film[2] << up) - mul_i32_inline(lens.0, u[2]) - mul_i32_inline(lens.1, v[2]),
+            ];
             (w, 15, [0; 3])
         };
         // Below 2^31 at scale 2^-s; a direction far shorter than the film's

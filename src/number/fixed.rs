@@ -5,7 +5,7 @@ use crate::number::film::{FilmMapDesc, FixedFilmMap};
 use crate::number::q16::{sat32, shr_round, FixedDir, FixedRow};
 use crate::number::scalar::{BakeScalar, Kernels, Scalar};
 use crate::number::wide::{
-    bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i64, mul_u32, mul_u64,
+    bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i32_inline, mul_i64, mul_u32, mul_u64,
 };
 use fixed::types::I16F16;
 
@@ -20,7 +20,7 @@ fn pow2(e: u32) -> f64 {
 #[cfg_attr(lensray_v6m, inline(never))]
 #[cfg_attr(not(lensray_v6m), inline)]
 fn mul_q16_wide(a: i32, b: i32) -> i32 {
-    sat32(shr_round(mul_i32(a, b), 16))
+    sat32(shr_round(mul_i32_inline(a, b), 16))
 }
 
 /// [`mul_q16_wide`] in 32-bit arithmetic when both magnitudes are at most
@@ -280,9 +280,10 @@ fn unit_of_exact(mut d: FixedDir) -> ([I16F16; 3], I16F16, I16F16) {
 }
 
 impl Kernels for I16F16 {
-    // Forced only on the M0, where the product is short (`mul_q16_small`) and a
-    // call is dear; elsewhere the compiler's choice, as for `mul`.
-    #[cfg_attr(lensray_v6m, inline(always))]
+    // One copy on the M0 (in place at every `Vec3` product it took 3.3 KB of
+    // its flash, for some 3 % of its instructions); elsewhere the compiler's
+    // choice, as for `mul`.
+    #[cfg_attr(lensray_v6m, inline(never))]
     #[cfg_attr(not(lensray_v6m), inline)]
     fn mul_inline(self, o: Self) -> Self {
         let (a, b) = (self.to_bits(), o.to_bits());
@@ -354,7 +355,7 @@ impl Kernels for I16F16 {
             .iter()
             .map(|x| {
                 let b = x.to_bits();
-                mul_i32(b, b) as u64
+                mul_i32_inline(b, b) as u64
             })
             .sum();
         // sqrt of a Q32.32 sum is the Q16.16 length; rounded.
@@ -389,7 +390,7 @@ impl Kernels for I16F16 {
             .iter()
             .map(|x| {
                 let b = x.to_bits();
-                mul_i32(b, b) as u64
+                mul_i32_inline(b, b) as u64
             })
             .sum();
         let rb = r.to_bits().max(0);

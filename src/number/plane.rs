@@ -10,7 +10,8 @@
 
 use crate::number::q16::{shr_round, FixedDir, FixedRow};
 use crate::number::wide::{
-    bits_u64, bits_u64_inline, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i64, mul_u32, sar64,
+    bits_u64, bits_u64_inline, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i32_inline, mul_i64,
+    mul_u32_inline, sar64,
 };
 use fixed::types::I16F16;
 
@@ -107,7 +108,7 @@ fn q16(x: i64) -> I16F16 {
 /// 2^31: one square root and one reciprocal. `None` for the zero vector.
 pub(crate) fn unit_mantissas(d: [i64; 3]) -> Option<[i64; 3]> {
     // Each square of an i32 is below 2^62: the sum fits a u64.
-    let sq: u64 = d.iter().map(|&x| mul_i32(x as i32, x as i32) as u64).sum();
+    let sq: u64 = d.iter().map(|&x| mul_i32_inline(x as i32, x as i32) as u64).sum();
     let l = isqrt_rem_u64(sq).0;
     if l == 0 {
         return None;
@@ -119,7 +120,7 @@ pub(crate) fn unit_mantissas(d: [i64; 3]) -> Option<[i64; 3]> {
         let recip = div_rem_u64_u32(1 << 61, l as u32).0 as u32;
         d.map(|x| {
             // |x| <= l < 2^32: one 32 x 32-bit product.
-            let q = ((mul_u32(x.unsigned_abs() as u32, recip) + (1 << 30)) >> 31) as i64;
+            let q = ((mul_u32_inline(x.unsigned_abs() as u32, recip) + (1 << 30)) >> 31) as i64;
             if x < 0 {
                 -q
             } else {

@@ -31,9 +31,19 @@ pub(crate) fn mul_i32_halves(a: i32, b: i32) -> i64 {
     (((a1 * b1) as i64) << 32) + (mid << 16) + (a0 * b0) as i64
 }
 
-/// `a · b` exactly, as i64.
-#[inline(always)]
+/// `a · b` exactly, as i64: on the M0 one out-of-line copy of
+/// [`mul_i32_inline`] (in place at its some fifty sites it took 2 KB of its
+/// flash); the per-ray kernels that exist once (square root, division,
+/// normalisation) keep it in place.
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline(always))]
 pub(crate) fn mul_i32(a: i32, b: i32) -> i64 {
+    mul_i32_inline(a, b)
+}
+
+/// `a · b` exactly, as i64, in place.
+#[inline(always)]
+pub(crate) fn mul_i32_inline(a: i32, b: i32) -> i64 {
     #[cfg(lensray_v6m)]
     {
         mul_i32_halves(a, b)
@@ -44,9 +54,16 @@ pub(crate) fn mul_i32(a: i32, b: i32) -> i64 {
     }
 }
 
-/// `a · b` exactly, as u64.
-#[inline(always)]
+/// `a · b` exactly, as u64: one out-of-line copy on the M0, as [`mul_i32`].
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline(always))]
 pub(crate) fn mul_u32(a: u32, b: u32) -> u64 {
+    mul_u32_inline(a, b)
+}
+
+/// `a · b` exactly, as u64, in place.
+#[inline(always)]
+pub(crate) fn mul_u32_inline(a: u32, b: u32) -> u64 {
     #[cfg(lensray_v6m)]
     {
         mul_u32_halves(a, b)
@@ -84,7 +101,9 @@ pub(crate) fn mul_u64_halves(a: u64, b: u64) -> u64 {
 }
 
 /// `a · b` for i64 factors whose product fits an i64.
-#[inline(always)]
+// One copy on the M0: in place at its dozen sites it took 470 bytes of its flash.
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline(always))]
 pub(crate) fn mul_i64(a: i64, b: i64) -> i64 {
     #[cfg(lensray_v6m)]
     {
@@ -97,7 +116,9 @@ pub(crate) fn mul_i64(a: i64, b: i64) -> i64 {
 }
 
 /// `a · b` for u64 factors whose product fits a u64.
-#[inline(always)]
+// One copy on the M0: in place at its dozen sites it took 470 bytes of its flash.
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline(always))]
 pub(crate) fn mul_u64(a: u64, b: u64) -> u64 {
     #[cfg(lensray_v6m)]
     {
@@ -144,8 +165,8 @@ pub(crate) fn bits_u64(x: u64) -> u32 {
     bits_u64_by(x, clz32_call)
 }
 
-/// [`bits_u64`] with the leading zeros counted in place: for the per-ray
-/// paths (the camera ray's direction, the plane's hit).
+/// [`bits_u64`] for the per-ray paths (the camera ray's direction, the
+/// plane's hit): [`clz32`], the same out-of-line count on the M0.
 #[inline(always)]
 pub(crate) fn bits_u64_inline(x: u64) -> u32 {
     bits_u64_by(x, clz32)
@@ -191,10 +212,25 @@ pub(crate) fn sar64(x: i64, s: u32) -> i64 {
     }
 }
 
-/// Leading zeros of a u32: in place, for the square roots and reciprocals
-/// of every ray.
+/// Leading zeros of a u32: on the M0 one out-of-line copy of the binary
+/// search (in place at its nine sites it took 650 bytes of its flash, for
+/// some 35 instructions a pixel).
 #[inline(always)]
 fn clz32(x: u32) -> u32 {
+    #[cfg(lensray_v6m)]
+    {
+        clz32_call(x)
+    }
+    #[cfg(not(lensray_v6m))]
+    {
+        x.leading_zeros()
+    }
+}
+
+/// [`clz32`]'s one out-of-line copy on the M0.
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline(always))]
+fn clz32_call(x: u32) -> u32 {
     #[cfg(lensray_v6m)]
     {
         clz32_search(x)
@@ -205,29 +241,28 @@ fn clz32(x: u32) -> u32 {
     }
 }
 
-/// [`clz32`] as one out-of-line copy on the M0, for the bit lengths of the
-/// rarer exact paths (inlined everywhere it took 2 KB of flash).
-#[cfg_attr(lensray_v6m, inline(never))]
-#[cfg_attr(not(lensray_v6m), inline(always))]
-fn clz32_call(x: u32) -> u32 {
-    clz32(x)
-}
-
 /// Rounded `1 / sqrt(x)` in Q1.15 at the middle of each interval
 /// `[i, i + 1) / 512` of x in [1/4, 1), i in 128..512: `round(sqrt(2^40 / (2i + 1)))`,
-/// at most 65408. Indexed by i directly (entries below 128 unused) so that
-/// no bounds check is needed.
-const RSQRT_T: [u16; 512] = {
-    let mut t = [0u16; 512];
+/// at most 65408, at index `i - 128` ([`rsqrt_start`]).
+const RSQRT_T: [u16; 384] = {
+    let mut t = [0u16; 384];
     let mut i = 128;
     while i < 512 {
         let q = (1u64 << 42) / (2 * i as u64 + 1);
         // round(sqrt(q / 4)) from the floor of sqrt(q).
-        t[i] = q.isqrt().div_ceil(2) as u16;
+        t[i - 128] = q.isqrt().div_ceil(2) as u16;
         i += 1;
     }
     t
 };
+
+/// [`RSQRT_T`]'s entry for the top word `w` of a value normalised to
+/// [2^30, 2^32) (or [2^62, 2^64)): `w >> 23` is in 128..512; held there, so
+/// that no bounds check (and no panic path) is needed.
+#[inline(always)]
+fn rsqrt_start(w: u32) -> u32 {
+    RSQRT_T[((w >> 23).saturating_sub(128) as usize).min(383)] as u32
+}
 
 /// Rounded `2^47 / d` at the middle of each of the 256 intervals
 /// `[256 + j, 257 + j) · 2^23` of a normalised divisor d: `round(2^24 / (256.5 + j))`.
@@ -265,7 +300,7 @@ fn isqrt_fix_u32(n: u32, r: u32) -> (u32, u32) {
 #[inline(always)]
 fn isqrt_fix_u64(n: u64, r: u64) -> (u64, u64) {
     let mut r = r.min(0xFFFF_FFFF);
-    let mut sq = mul_u32(r as u32, r as u32);
+    let mut sq = mul_u32_inline(r as u32, r as u32);
     while sq > n {
         r -= 1;
         sq -= 2 * r + 1;
@@ -287,7 +322,7 @@ fn isqrt_estimate_u32(n: u32) -> u32 {
     let k = clz32(n) / 2;
     let nn = n << (2 * k);
     // y0 ≈ 2^15 / sqrt(nn / 2^32), relative error below 2^-9.
-    let y0 = RSQRT_T[(nn >> 23) as usize] as u32;
+    let y0 = rsqrt_start(nn);
     // s0 ≈ sqrt(nn), within 2^-8.9; (nn >> 16) · y0 < 2^32.
     let s0 = ((nn >> 16) * y0) >> 15;
     // |nn - s0^2| < 2^24.1 even when s0^2 wraps a u32.
@@ -325,18 +360,18 @@ fn isqrt_estimate_u64(n: u64) -> u32 {
     };
     let nn = ((nh as u64) << 32) | nl as u64;
     // y0 ≈ 2^15 / sqrt(x), x = nn / 2^64 in [1/4, 1); relative error below 2^-9.
-    let y0 = RSQRT_T[(nh >> 23) as usize] as u32;
+    let y0 = rsqrt_start(nh);
     // Newton for 1/sqrt: y1 = y0 (3 - x y0^2) / 2, in Q1.31; t = x y0^2 in Q2.30.
-    let t = (mul_u32(nh, y0 * y0) >> 32) as u32;
+    let t = (mul_u32_inline(nh, y0 * y0) >> 32) as u32;
     let h = 3 * (1u32 << 30) - t;
     // y0 · h / 2^15 exactly, from two 16 × 16-bit products; below 2^32 (y1 < 2).
     let y1 = ((y0 * (h >> 16)) << 1) + ((y0 * (h & 0xFFFF)) >> 15);
     // s1 = x · y1 · 2^32 ≈ sqrt(nn), relative error about 2^-17.4, below 2^32.
-    let s1 = (mul_u32(nh, y1) >> 31) as u32;
+    let s1 = (mul_u32_inline(nh, y1) >> 31) as u32;
     // Newton for the root with 1/sqrt(nn) = y1 / 2^63: s2 = s1 + res · y1 / 2^64.
-    let res = nn.wrapping_sub(mul_u32(s1, s1)) as i64;
+    let res = nn.wrapping_sub(mul_u32_inline(s1, s1)) as i64;
     // |res| < 2^47.6, so |res| >> 16 fits a u32.
-    let c = (mul_u32((res.unsigned_abs() >> 16) as u32, y1) >> 48) as u32;
+    let c = (mul_u32_inline((res.unsigned_abs() >> 16) as u32, y1) >> 48) as u32;
     let s2 = if res < 0 { s1 - c } else { s1.saturating_add(c) };
     s2 >> k
 }
@@ -389,7 +424,7 @@ fn recip_word_estimate(d: u32) -> u32 {
     let v1 = ((x0 as i64) << 17) + ((e * x0 as i32) >> 6) as i64 - (1i64 << 32) - (1 << 12);
     let v1 = v1.max(0) as u32;
     // e2 = 2^64 - d (2^32 + v1) in (0, 2^47); Newton: v += e2 / 2^32 + v1 · e2 / 2^64.
-    let e2 = ((d as u64) << 32).wrapping_neg() - mul_u32(d, v1);
+    let e2 = ((d as u64) << 32).wrapping_neg() - mul_u32_inline(d, v1);
     let m = (e2 >> 32) as u32;
     // v1 · m / 2^32 from two 16 × 16-bit products (m < 2^15).
     let t = ((v1 >> 16) * m + (((v1 & 0xFFFF) * m) >> 16)) >> 16;
@@ -404,7 +439,7 @@ fn recip_word_estimate(d: u32) -> u32 {
 fn recip_word(d: u32) -> u32 {
     let mut v = recip_word_estimate(d);
     // e = 2^64 - 1 - d (2^32 + v) >= 0 must drop below d.
-    let mut e = !((d as u64) << 32) - mul_u32(d, v);
+    let mut e = !((d as u64) << 32) - mul_u32_inline(d, v);
     while e >= d as u64 {
         v += 1;
         e -= d as u64;
@@ -418,7 +453,7 @@ fn recip_word(d: u32) -> u32 {
 #[inline(always)]
 #[cfg_attr(not(lensray_v6m), allow(dead_code))]
 fn div_2by1(u1: u32, u0: u32, d: u32, v: u32) -> (u32, u32) {
-    let q = mul_u32(v, u1).wrapping_add(((u1 as u64) << 32) | u0 as u64);
+    let q = mul_u32_inline(v, u1).wrapping_add(((u1 as u64) << 32) | u0 as u64);
     let mut q1 = ((q >> 32) as u32).wrapping_add(1);
     let q0 = q as u32;
     let mut r = u0.wrapping_sub(q1.wrapping_mul(d));
@@ -588,8 +623,9 @@ pub(crate) type Recip = RecipHw;
 pub(crate) type Recip = RecipDiv;
 
 /// `(n / d, n % d)` exactly, for `d > 0`.
-// Forced on the M0: at opt-level "s" the call cost 95 instructions a pixel (opt 2 inlined it already).
-#[cfg_attr(lensray_v6m, inline(always))]
+// One copy on the M0 (its four copies in place took 750 bytes of its flash,
+// for some 95 instructions a pixel).
+#[cfg_attr(lensray_v6m, inline(never))]
 #[cfg_attr(not(lensray_v6m), inline)]
 pub(crate) fn div_rem_u64_u32(n: u64, d: u32) -> (u64, u32) {
     Recip::new(d).div_rem(n)

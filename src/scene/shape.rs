@@ -234,7 +234,7 @@ fn cube<S: Scalar>(
     // Always 0..=2 (k from `Kernels::exact_point` too): keeps bounds checks and their panic path out.
     let axis = axis.min(2);
     let outward = (d[axis] < S::ZERO) == entering;
-    let mut p = [0, 1, 2].map(|i| o[i].add(d[i].mul(t)));
+    let mut p = [o[0].add(d[0].mul(t)), o[1].add(d[1].mul(t)), o[2].add(d[2].mul(t))];
     // Near an edge: which face (or whether the cube at all) is in doubt.
     let edge = S::ONE.sub(close_band());
     *close |= (0..3).any(|i| i != axis && p[i].abs() > edge);

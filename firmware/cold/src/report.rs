@@ -63,7 +63,7 @@ impl<'a> Report<'a> {
     /// Instructions a pixel, rounded.
     pub fn per_pixel(&self) -> u64 {
         let pixels = self.width as u64 * self.height as u64;
-        div_u64(self.frame + pixels / 2, pixels)
+        (self.frame + pixels / 2) / pixels.max(1)
     }
 
     /// Writes the report to `c`.
@@ -85,22 +85,4 @@ impl<'a> Report<'a> {
             .num(self.ram);
         c.text(" calibration=").num(self.calibration).write_all(b"\n")
     }
-}
-
-/// `n / d` for `d > 0`, bit by bit: the runtime's `u64 / u64` is a kilobyte
-/// of the Cortex-M0's flash, for the report's few divisions.
-pub(crate) fn div_u64(n: u64, d: u64) -> u64 {
-    let (mut n, mut q, mut r) = (n, 0u64, 0u64);
-    // Shifts by one only (a variable u64 shift is a call on the M0).
-    for _ in 0..64 {
-        // r < d before the shift: no bit is lost while d < 2^63.
-        r = (r << 1) | (n >> 63);
-        n <<= 1;
-        q <<= 1;
-        if r >= d {
-            r -= d;
-            q |= 1;
-        }
-    }
-    q
 }

@@ -137,12 +137,12 @@ impl HostFile {
     // Once, not at each of the report's call sites (opt-level 3 copied it).
     #[inline(never)]
     pub fn num(&mut self, n: u64) -> &mut HostFile {
-        // Digits from the last, by the report's bit-by-bit division: the
-        // runtime's u64 division is a kilobyte of the Cortex-M0's flash.
+        // Digits from the last (the micro:bit links a short u64 division:
+        // the firmware's runtime.rs).
         let mut buf = [0u8; 20];
         let (mut n, mut i) = (n, buf.len());
         while i > 0 {
-            let q = crate::report::div_u64(n, 10);
+            let q = n / 10;
             i -= 1;
             buf[i] = b'0' + (n - q * 10) as u8;
             n = q;

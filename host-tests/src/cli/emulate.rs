@@ -24,14 +24,18 @@ use lensray_host::{encode, load_scene, write_atomic, Format, Image};
 use crate::cli::opts::{self, image_size, whole};
 use crate::Fail;
 
-/// A board QEMU emulates: its name, Rust target, cargo features, QEMU
-/// program and machine arguments. A new board is one more entry in [`BOARDS`].
+/// A board QEMU emulates: its name, Rust target, cargo features and
+/// profile, QEMU program and machine arguments. A new board is one more
+/// entry in [`BOARDS`].
 struct Board {
     name: &'static str,
     /// The core, for the report in words.
     core: &'static str,
     target: &'static str,
     features: &'static str,
+    /// The firmware's cargo profile (firmware/Cargo.toml): `microbit`, the
+    /// release build compiled for size, for the micro:bit's flash.
+    profile: &'static str,
     qemu_program: &'static str,
     qemu: &'static [&'static str],
 }
@@ -42,6 +46,7 @@ const BOARDS: [Board; 4] = [
         core: "Cortex-M0",
         target: "thumbv6m-none-eabi",
         features: "microbit",
+        profile: "microbit",
         qemu_program: "qemu-system-arm",
         qemu: &["-machine", "microbit"],
     },
@@ -50,6 +55,7 @@ const BOARDS: [Board; 4] = [
         core: "Cortex-M3",
         target: "thumbv7m-none-eabi",
         features: "mps2-an385",
+        profile: "release",
         qemu_program: "qemu-system-arm",
         qemu: &["-machine", "mps2-an385", "-cpu", "cortex-m3"],
     },
@@ -58,6 +64,7 @@ const BOARDS: [Board; 4] = [
         core: "Cortex-M4F",
         target: "thumbv7em-none-eabihf",
         features: "mps2-an386,hw-sqrt",
+        profile: "release",
         qemu_program: "qemu-system-arm",
         qemu: &["-machine", "mps2-an386", "-cpu", "cortex-m4"],
     },
@@ -67,6 +74,7 @@ const BOARDS: [Board; 4] = [
         core: "RV32IMAC",
         target: "riscv32imac-unknown-none-elf",
         features: "sifive-e",
+        profile: "release",
         qemu_program: "qemu-system-riscv32",
         qemu: &["-machine", "sifive_e"],
     },
@@ -285,7 +293,8 @@ impl Build<'_> {
         cmd.current_dir(&firmware)
             .args([
                 "build",
-                "--release",
+                "--profile",
+                self.board.profile,
                 "--target",
                 self.board.target,
                 "--features",
@@ -318,7 +327,7 @@ impl Build<'_> {
         }
         let elf = target_dir
             .join(self.board.target)
-            .join("release")
+            .join(self.board.profile)
             .join("lensray-firmware");
         let copy = dir.join("lensray-firmware.elf");
         std::fs::copy(&elf, &copy).map_err(|e| Fail(format!("{}: {e}", elf.display())))?;
