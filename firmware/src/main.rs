@@ -11,7 +11,11 @@
 //! a panic. It never waits for anything, so it never hangs.
 //!
 //! The scene, image size, sample count and number type are fixed at build
-//! time (see build.rs); `lensray emulate` sets them for you.
+//! time (see build.rs); `lensray emulate` sets them for you. Every board
+//! renders through the library's one code path, exactly what the host
+//! renders; the micro:bit is built with its own profile, for size, and its
+//! own short runtime routines (runtime.rs), to keep its default build within
+//! 40 KiB of flash.
 
 #![no_std]
 #![no_main]
