@@ -108,8 +108,8 @@ pub const BLOCKS: usize = 8;
 pub(crate) struct Sums<S: Scalar> {
     colour: [S::Acc; 3],
     blocks: [[u32; 3]; BLOCKS],
-    /// Rays a block holds.
-    size: u32,
+    /// Rays a block holds, as a power of two: its log.
+    shift: u32,
 }
 
 impl<S: Scalar> Sums<S> {
@@ -117,13 +117,13 @@ impl<S: Scalar> Sums<S> {
         Sums {
             colour: [S::acc_zero(); 3],
             blocks: [[0; 3]; BLOCKS],
-            size: 1,
+            shift: 0,
         }
     }
 
     /// Adds ray `i` (from 0, in order), of colour `c`.
     fn add(&mut self, i: u32, c: Vec3<S>) {
-        let block = &mut self.blocks[(i / self.size) as usize % BLOCKS];
+        let block = &mut self.blocks[(i >> self.shift) as usize % BLOCKS];
         for (k, v) in [c.x, c.y, c.z].into_iter().enumerate() {
             self.colour[k] = S::acc_add(self.colour[k], v);
             block[k] += (v.to_fine() >> 4) as u32;
@@ -162,7 +162,7 @@ impl<S: Scalar> Sums<S> {
             self.blocks[k] = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
         }
         self.blocks[BLOCKS / 2..].fill([0; 3]);
-        self.size *= 2;
+        self.shift += 1;
     }
 
     fn mean(&self, n: u32) -> Vec3<S> {

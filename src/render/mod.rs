@@ -129,12 +129,17 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let film = self.camera.film_point(col, row);
         let mut lens = PixelSamples::new(self.sampler, col, row);
         let stratified = self.sampler == Sampler::Stratified;
+        // A cell's radius changes at the pixel's checks only.
+        let mut cell = (0, S::ZERO);
         let cast = |strata: u32| {
             let ray = self.camera.generate_ray(&CameraSample {
                 film: &film,
                 lens: Some(lens.next(self.camera.aperture())),
             });
-            let footprint = stratified.then(|| (&self.defocus, self.defocus.stratum(strata)));
+            if cell.0 != strata {
+                cell = (strata, self.defocus.stratum(strata));
+            }
+            let footprint = stratified.then_some((&self.defocus, cell.1));
             self.scene.trace_ray(&ray, Some(&self.cones), footprint)
         };
         adaptive::pixel(self.samples, pilot, cast, stop)
