@@ -205,9 +205,13 @@ pub extern "C" fn lr_setup(width: u32, height: u32, first_step: u32, preview_sam
         let (Some(fixed), Some(float)) = (s.fixed.as_mut(), s.float.as_mut()) else {
             return 0;
         };
-        float.set_size(w, h);
-        // Both number types cast the same rays a pixel.
+        // Each number type's pre-pass sets its own stop rule, and the two may
+        // differ (their colours are a rounding apart: one may choose plain
+        // samples, the other a threshold). The passes take the larger of
+        // their rays a pixel, so that neither takes a full pass for a
+        // preview: a pass at least a renderer's rays is that renderer's own.
         let rays = fixed.set_size(w, h).rays_per_pixel();
+        let rays = rays.max(float.set_size(w, h).rays_per_pixel());
         s.passes.extend(Schedule::new(first_step, preview_samples, rays));
         s.passes.len() as u32
     })
@@ -529,6 +533,34 @@ mod tests {
         assert_eq!(lr_setup(10, 10, 8, 1), 0, "no scene, no passes");
         assert_eq!(lr_render(0, 0, 0, 10), 0.0);
         assert!(lr_depth_at(0, 1, 1).is_nan());
+    }
+
+    #[test]
+    fn every_preset_ends_in_the_plain_render_of_both_number_types() {
+        // Adaptive sampling as each scene says: the two number types' stop
+        // rules may differ, and each type's last pass must still be its own
+        // plain render.
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes");
+        let mut files: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+        files.sort();
+        assert!(files.len() >= 10, "{files:?}");
+        let (w, h) = (48, 36);
+        for path in files.iter().filter(|p| p.extension().is_some_and(|x| x == "scene")) {
+            let text = std::fs::read_to_string(path).unwrap();
+            assert_eq!(load(&text), 0, "{}", path.display());
+            let n = lr_setup(w, h, 8, 1);
+            for number in [NUMBER_FIXED, NUMBER_FLOAT] {
+                for i in 0..n {
+                    lr_render(number, i, 0, lr_pass_rows(i));
+                }
+                let plain: Vec<u8> = if number == NUMBER_FIXED {
+                    plain_render(&Scene::<I16F16>::parse(&text).unwrap(), w, h)
+                } else {
+                    plain_render(&Scene::<f32>::parse(&text).unwrap(), w, h)
+                };
+                assert!(image(number, w, h) == plain, "{} number {number}", path.display());
+            }
+        }
     }
 
     #[test]
