@@ -269,7 +269,9 @@ pub(crate) fn exact_cells(
 /// [`exact_cells`]): `n · (q − p)` on a flat face, else `f(q) / 2`.
 fn half_f(q: [i64; 3], p: [I16F16; 3], nb: [i64; 3], surface: u8) -> Option<i64> {
     Some(if surface == FLAT {
-        (0..3).fold(0i64, |acc, i| acc + nb[i] * (q[i] - ((p[i].to_bits() as i64) << 14)))
+        // A point far off the face (a far plane's) may not fit: then no retake.
+        let term = |i: usize| nb[i].checked_mul(q[i].checked_sub((p[i].to_bits() as i64) << 14)?);
+        term(0)?.checked_add(term(1)?)?.checked_add(term(2)?)?
     } else {
         if q.iter().any(|x| x.unsigned_abs() >= 1 << 31) {
             return None;
