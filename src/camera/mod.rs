@@ -17,7 +17,6 @@
 use crate::camera::aperture::Aperture;
 use crate::camera::sampler::Sampler;
 pub use crate::geometry::ray::Ray;
-use crate::geometry::transform::{Affine, Mat34};
 use crate::geometry::vec3::Vec3;
 use crate::number::film::FilmMapDesc;
 use crate::number::Scalar;
@@ -33,8 +32,6 @@ pub const MAX_IMAGE_SIDE: u32 = 8192;
 /// A camera set up for one image size, in the number type `S`.
 #[derive(Copy, Clone, Debug)]
 pub struct Camera<S: Scalar> {
-    /// Maps `(2c + 1, 2r + 1, 0)` to the film point `(u_c, v_r, −N)`.
-    film: Affine<S>,
     /// Pixel → world direction of its rays, exactly (see [`crate::number::film`]).
     map: S::FilmMap,
     /// The lens centre E in world space: the chief rays' common origin.
@@ -51,7 +48,7 @@ pub struct Camera<S: Scalar> {
 }
 
 impl<S: crate::number::BakeScalar> crate::bytes::Field for Camera<S> {
-    crate::bytes::baked_fields!(Camera { film, map, eye, lens_u, lens_v, pinhole, aperture, cols, rows }, check(cam) {
+    crate::bytes::baked_fields!(Camera { map, eye, lens_u, lens_v, pinhole, aperture, cols, rows }, check(cam) {
         if !(1..=MAX_IMAGE_SIDE).contains(&cam.cols) || !(1..=MAX_IMAGE_SIDE).contains(&cam.rows) {
             return Err(crate::bytes::BakeError::OutOfRange("image side not in 1..=8192"));
         }
@@ -196,11 +193,6 @@ impl<S: Scalar> Camera<S> {
         let half_h = p * rows as f64 / 2.0;
         let big_n = params.image_distance;
         // u_c = −W + p (c + ½) = (p/2)(2c + 1) − W; v_r = H − (p/2)(2r + 1).
-        let film = Mat34([
-            [p / 2.0, 0.0, 0.0, -half_w],
-            [0.0, -p / 2.0, 0.0, half_h],
-            [0.0, 0.0, 0.0, -big_n],
-        ]);
         let f = params.focal_length;
         let pinhole = params.radius.is_nan() || params.radius <= 0.0;
         // m = z_f / N = f / (N − f); the tilt is a / m.
@@ -208,7 +200,6 @@ impl<S: Scalar> Camera<S> {
         let radius = if pinhole { 0.0 } else { params.radius };
         let desc = FilmMapDesc::from_basis(e, [u, v, n], p, (half_w, half_h), big_n, lens_tilt, (cols, rows));
         Camera {
-            film: Affine::from_mat(&film),
             map: S::film_map(&desc),
             eye: Vec3::from_f64(e),
             lens_u: Vec3::from_f64(u.map(|x| x * radius)),
@@ -346,11 +337,7 @@ mod tests {
         let cam = Camera::<f32>::new(&params, 640, 480);
         // Pixel (0, 0): u = −W + p/2, v = H − p/2, with p = 10/640, H = p·480/2.
         let p = 10.0 / 640.0;
-        let f = cam.film.point(Vec3::new(1.0, 1.0, 0.0)).to_f64();
-        assert!((f[0] - (-5.0 + p / 2.0)).abs() < 1e-6);
-        assert!((f[1] - (p * 240.0 - p / 2.0)).abs() < 1e-6);
-        assert_eq!(f[2], -8.0);
-        // The picture is upright: row 0 looks up, column 0 looks left.
+        // The chief ray from the eye (the origin) runs along (u, v, −N).
         let d = cam
             .generate_ray(&CameraSample {
                 film: &cam.film_point(0, 0),
@@ -358,7 +345,11 @@ mod tests {
             })
             .dir
             .to_f64();
-        assert!(d[0] < 0.0 && d[1] > 0.0);
+        let f = [d[0] * -8.0 / d[2], d[1] * -8.0 / d[2]];
+        assert!((f[0] - (-5.0 + p / 2.0)).abs() < 1e-5, "{f:?}");
+        assert!((f[1] - (p * 240.0 - p / 2.0)).abs() < 1e-5, "{f:?}");
+        // The picture is upright: row 0 looks up, column 0 looks left.
+        assert!(d[0] < 0.0 && d[1] > 0.0 && d[2] < 0.0);
     }
 
     #[test]

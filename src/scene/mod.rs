@@ -207,12 +207,6 @@ impl ObjectDesc {
 }
 
 impl<S: Scalar> Object<S> {
-    /// World → object (set-up use).
-    #[allow(dead_code)]
-    pub(crate) fn world_to_object(&self) -> &Affine<S> {
-        &self.to_object
-    }
-
     /// Rounds an exact description to `S`. `None` if the transform is singular.
     pub fn new(desc: &ObjectDesc) -> Option<Self> {
         let inv = desc.to_world.inverse()?;
