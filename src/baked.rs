@@ -63,26 +63,26 @@
 use crate::camera::sampler::Sampler;
 use crate::camera::{Camera, MAX_IMAGE_SIDE};
 use crate::render::cull::LensCones;
-use crate::render::defocus::Defocus;
-use crate::render::{Renderer, StopRule};
+use crate::render::Renderer;
 use crate::scene::{Scene, MAX_OBJECTS};
+use core::borrow::Borrow;
 
 pub use crate::bytes::{crc32, BakeError, Field, Reader, Writer, FORMAT_VERSION, HEADER_LEN, MAGIC, TRAILER_LEN};
 pub use crate::number::BakeScalar;
+pub use crate::render::Setup;
 
 /// The payload: the scene's rendering state (its camera statements are not
 /// baked: the camera below is their set-up), the camera, the lens cones, the
 /// samples and whether they are adaptive.
-fn put_renderer<S: BakeScalar>(r: &Renderer<'_, S>, w: &mut Writer<'_>) {
-    let Renderer {
-        scene,
+fn put_renderer<S: BakeScalar>(scene: &Scene<S>, setup: &Setup<S>, w: &mut Writer<'_>) {
+    let Setup {
         camera,
         cones,
         defocus,
         samples,
         sampler,
         stop,
-    } = r;
+    } = setup;
     put_scene(scene, w);
     camera.put(w);
     cones.put(w);
@@ -111,9 +111,9 @@ fn put_scene<S: BakeScalar>(s: &Scene<S>, w: &mut Writer<'_>) {
 }
 
 /// Bytes [`bake`] writes for this renderer.
-pub fn baked_len<S: BakeScalar>(renderer: &Renderer<'_, S>) -> usize {
+pub fn baked_len<S: BakeScalar, P: Borrow<Setup<S>>>(renderer: &Renderer<'_, S, P>) -> usize {
     let mut w = Writer::new(None);
-    put_renderer(renderer, &mut w);
+    put_renderer(renderer.scene, renderer.setup.borrow(), &mut w);
     w.flush();
     HEADER_LEN + w.pos + TRAILER_LEN
 }
@@ -125,7 +125,10 @@ pub fn baked_len<S: BakeScalar>(renderer: &Renderer<'_, S>) -> usize {
 ///
 /// [`BakeError::BufferTooSmall`] if `out` is shorter than [`baked_len`]
 /// (nothing useful is written then).
-pub fn bake<S: BakeScalar>(renderer: &Renderer<'_, S>, out: &mut [u8]) -> Result<usize, BakeError> {
+pub fn bake<S: BakeScalar, P: Borrow<Setup<S>>>(
+    renderer: &Renderer<'_, S, P>,
+    out: &mut [u8],
+) -> Result<usize, BakeError> {
     let needed = baked_len(renderer);
     if out.len() < needed {
         return Err(BakeError::BufferTooSmall { needed });
@@ -138,7 +141,7 @@ pub fn bake<S: BakeScalar>(renderer: &Renderer<'_, S>, out: &mut [u8]) -> Result
     header[7] = 0;
     header[8..].copy_from_slice(&(payload as u32).to_le_bytes());
     let mut w = Writer::new(Some(&mut rest[..payload]));
-    put_renderer(renderer, &mut w);
+    put_renderer(renderer.scene, renderer.setup.borrow(), &mut w);
     w.flush();
     let crc = crc32(&out[..needed - TRAILER_LEN]);
     out[needed - TRAILER_LEN..needed].copy_from_slice(&crc.to_le_bytes());
@@ -150,12 +153,7 @@ pub fn bake<S: BakeScalar>(renderer: &Renderer<'_, S>, out: &mut [u8]) -> Result
 #[derive(Clone, Debug)]
 pub struct Baked<S: BakeScalar> {
     scene: Scene<S>,
-    camera: Camera<S>,
-    cones: LensCones<S>,
-    defocus: Defocus<S>,
-    samples: u32,
-    sampler: Sampler,
-    stop: Option<StopRule>,
+    setup: Setup<S>,
     /// The cones were moved out by [`Baked::take_renderer`].
     taken: bool,
 }
@@ -165,13 +163,22 @@ impl<S: BakeScalar> Baked<S> {
     pub fn empty() -> Self {
         Baked {
             scene: Scene::default(),
+            setup: Self::blank_setup(),
+            taken: false,
+        }
+    }
+
+    /// The empty scene's set-up: one copy for [`Baked::empty`] and
+    /// [`Baked::clear`].
+    #[inline(never)]
+    fn blank_setup() -> Setup<S> {
+        Setup {
             camera: Camera::blank(),
             cones: LensCones::blank(),
             defocus: Field::blank(),
             samples: 1,
             sampler: Sampler::default(),
             stop: None,
-            taken: false,
         }
     }
 
@@ -201,18 +208,17 @@ impl<S: BakeScalar> Baked<S> {
     #[inline(never)]
     fn clear(&mut self) {
         let scene = &mut self.scene;
-        scene.camera = crate::camera::CameraParams::default();
+        // Loading writes these three of the camera statements, no other
+        // (`take_payload`): a whole default CameraParams cost 90 bytes more.
+        let d = crate::camera::CameraParams::default();
+        let cam = &mut scene.camera;
+        (cam.samples, cam.adaptive, cam.sampler) = (d.samples, d.adaptive, d.sampler);
         scene.ambient = crate::geometry::vec3::Vec3::ZERO;
         scene.background = crate::geometry::vec3::Vec3::ZERO;
         scene.shadows = false;
         scene.objects.clear();
         scene.lights.clear();
-        self.camera = Camera::blank();
-        self.cones = LensCones::blank();
-        self.defocus = Field::blank();
-        self.samples = 1;
-        self.sampler = Sampler::default();
-        self.stop = None;
+        self.setup = Self::blank_setup();
     }
 
     fn load_checked(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
@@ -273,37 +279,38 @@ impl<S: BakeScalar> Baked<S> {
         shadows.take(r);
         objects.take(r);
         lights.take(r);
-        self.camera.take(r);
-        self.cones.take(r);
-        self.defocus.take(r);
-        self.samples.take(r);
-        self.sampler.take(r);
-        Field::take(&mut self.stop, r);
+        let setup = &mut self.setup;
+        setup.camera.take(r);
+        setup.cones.take(r);
+        setup.defocus.take(r);
+        setup.samples.take(r);
+        setup.sampler.take(r);
+        Field::take(&mut setup.stop, r);
         if !r.ok() {
             return;
         }
         // One cone per object: the cull looks an object's cone up by its index.
-        if self.cones.len() != self.scene.objects.len() {
+        if self.setup.cones.len() != self.scene.objects.len() {
             return r.out_of_range("lens cones do not match the objects");
         }
-        if !(1..=65535).contains(&self.samples) {
+        if !(1..=65535).contains(&self.setup.samples) {
             return r.out_of_range("samples per pixel not in 1..=65535");
         }
-        let (cols, rows) = (self.camera.cols(), self.camera.rows());
+        let (cols, rows) = (self.setup.camera.cols(), self.setup.camera.rows());
         if !(1..=MAX_IMAGE_SIDE).contains(&cols) || !(1..=MAX_IMAGE_SIDE).contains(&rows) {
             return r.out_of_range("image side not in 1..=8192");
         }
         // The statements the renderer still reads from the scene's camera.
-        if let Some(rule) = self.stop {
+        if let Some(rule) = self.setup.stop {
             // A threshold's checks come at powers of two; plain samples stop anywhere.
             let plain = rule.threshold == u32::MAX;
-            if rule.pilot == 0 || rule.pilot > self.samples || !(plain || rule.pilot.is_power_of_two()) {
+            if rule.pilot == 0 || rule.pilot > self.setup.samples || !(plain || rule.pilot.is_power_of_two()) {
                 return r.out_of_range("stop rule's pilot is not within the samples");
             }
         }
-        self.scene.camera.samples = self.samples;
-        self.scene.camera.adaptive = self.stop.is_some();
-        self.scene.camera.sampler = self.sampler;
+        self.scene.camera.samples = self.setup.samples;
+        self.scene.camera.adaptive = self.setup.stop.is_some();
+        self.scene.camera.sampler = self.setup.sampler;
     }
 
     /// The renderer the bytes were baked from: the same pixels.
@@ -315,35 +322,44 @@ impl<S: BakeScalar> Baked<S> {
         assert!(!self.taken, "the renderer was taken: load again");
         Renderer {
             scene: &self.scene,
-            camera: self.camera,
-            cones: self.cones.clone(),
-            defocus: self.defocus,
-            samples: self.samples,
-            sampler: self.sampler,
-            stop: self.stop,
+            setup: self.setup.clone(),
         }
     }
 
-    /// [`Baked::renderer`] moving the cones and the bright footprints out
-    /// instead of copying them (one block move, not heapless's loop per
-    /// element: 2 KB less flash and 300 bytes less stack on the Cortex-M0).
-    /// Once per load: a second call before the next [`Baked::load`] empties
-    /// the scene first (renders black: a renderer without them would be
-    /// wrong), and [`Baked::renderer`] panics. Returned plainly, not as an
-    /// `Option`: that cost the Cortex-M0 a second copy on the stack.
+    /// [`Baked::renderer`] moving the cones out instead of copying them
+    /// (one block move, not heapless's loop per element). Once per load: a
+    /// second call before the next [`Baked::load`] empties the scene first
+    /// (renders black: a renderer without them would be wrong), and
+    /// [`Baked::renderer`] panics. Returned plainly, not as an `Option`:
+    /// that cost the Cortex-M0 a second copy on the stack.
     pub fn take_renderer(&mut self) -> Renderer<'_, S> {
         if self.taken {
             self.clear();
         }
         self.taken = true;
+        let setup = &mut self.setup;
         Renderer {
-            cones: core::mem::replace(&mut self.cones, LensCones::blank()),
             scene: &self.scene,
-            camera: self.camera,
-            defocus: self.defocus,
-            samples: self.samples,
-            sampler: self.sampler,
-            stop: self.stop,
+            setup: Setup {
+                cones: core::mem::replace(&mut setup.cones, LensCones::blank()),
+                ..*setup
+            },
+        }
+    }
+
+    /// The renderer the bytes were baked from, lent the set-up it renders
+    /// with rather than given a copy: the same pixels as
+    /// [`Baked::renderer`] with no second camera and lens cones in memory
+    /// (a microcontroller's). After [`Baked::take_renderer`], until the
+    /// next [`Baked::load`], the empty scene's (renders black).
+    pub fn lend(&mut self) -> Renderer<'_, S, &Setup<S>> {
+        if self.taken {
+            self.clear();
+            self.taken = false;
+        }
+        Renderer {
+            scene: &self.scene,
+            setup: &self.setup,
         }
     }
 
@@ -355,7 +371,7 @@ impl<S: BakeScalar> Baked<S> {
 
     /// Image width and height the scene was baked for.
     pub fn size(&self) -> (u32, u32) {
-        (self.camera.cols(), self.camera.rows())
+        (self.setup.camera.cols(), self.setup.camera.rows())
     }
 }
 

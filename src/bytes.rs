@@ -396,7 +396,9 @@ impl Field for f32 {
     }
 }
 
-impl<T: Field, const N: usize> Field for [T; N] {
+// `Copy`: a blank array is one blank item repeated, smaller than
+// `array::from_fn` in a microcontroller's loader.
+impl<T: Field + Copy, const N: usize> Field for [T; N] {
     fn put(&self, w: &mut Writer<'_>) {
         self.iter().for_each(|x| x.put(w));
     }
@@ -404,7 +406,7 @@ impl<T: Field, const N: usize> Field for [T; N] {
         self.iter_mut().for_each(|x| x.take(r))
     }
     fn blank() -> Self {
-        core::array::from_fn(|_| T::blank())
+        [T::blank(); N]
     }
 }
 

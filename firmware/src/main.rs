@@ -86,11 +86,11 @@ fn renderer(loaded: &Loaded) -> Renderer<'_, Number> {
     Renderer::new_with_samples(loaded, WIDTH, HEIGHT, SAMPLES)
 }
 
-/// The renderer of a loaded scene (size and samples were baked in), moving
-/// its cones and footprints out rather than copying them.
+/// The renderer of a loaded scene (size and samples were baked in), lent
+/// its camera and lens cones: no second copy of them on the stack.
 #[cfg(not(feature = "parse-on-device"))]
-fn renderer(loaded: &mut Loaded) -> Renderer<'_, Number> {
-    <Number as lensray_firmware_cold::Load>::take_renderer(loaded)
+fn renderer(loaded: &mut Loaded) -> Renderer<'_, Number, &lensray::baked::Setup<Number>> {
+    loaded.lend()
 }
 
 /// The instruction counter: SysTick on Arm.
@@ -216,6 +216,20 @@ unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
         console.text("HardFault at pc ").hex(frame.pc()).text("\n");
     }
     exit(3)
+}
+
+/// The interrupt vectors after the exceptions': one, the fewest cortex-m-rt's
+/// link.x accepts. The firmware enables no interrupt (only the SysTick
+/// exception), and the 31 more a Cortex-M0 may have cost 124 bytes of flash.
+#[cfg(target_arch = "arm")]
+#[link_section = ".vector_table.interrupts"]
+#[no_mangle]
+static __INTERRUPTS: [unsafe extern "C" fn(); 1] = [DefaultHandler];
+
+#[cfg(target_arch = "arm")]
+extern "C" {
+    /// The handler `#[exception] DefaultHandler` below defines.
+    fn DefaultHandler();
 }
 
 #[cfg(target_arch = "arm")]

@@ -7,8 +7,8 @@
 //!   flash). Volatile accesses keep LLVM from turning the loops back into
 //!   calls to themselves.
 //! * `u64 / u64` and `u32 / u32` (`__aeabi_uldivmod`, `__aeabi_uidiv`,
-//!   `__aeabi_uidivmod`): shift and subtract over the quotient's bits only,
-//!   in place of compiler-builtins' (1.3 KB).
+//!   `__aeabi_uidivmod`): one shift-and-subtract routine over the
+//!   quotient's bits only, in place of compiler-builtins' (1.3 KB).
 
 use core::ptr::{read_volatile, write_volatile};
 
@@ -183,37 +183,19 @@ pub extern "C" fn __aeabi_uldivmod() {
     )
 }
 
-/// `n / d` and `n % d` for u32, as [`udivmod`].
-fn udivmod32(mut n: u32, mut d: u32) -> (u32, u32) {
-    let mut q = 0;
-    if d == 0 {
-        return (u32::MAX, n);
-    }
-    if n >= d {
-        let shift = d.leading_zeros() - n.leading_zeros();
-        d <<= shift;
-        for _ in 0..=shift {
-            q <<= 1;
-            if n >= d {
-                n -= d;
-                q |= 1;
-            }
-            d >>= 1;
-        }
-    }
-    (q, n)
-}
-
-/// `u32 / u32`.
+/// `u32 / u32`: the u64 routine's (one routine, not two: the few u32
+/// divisions the firmware makes have short quotients).
 #[no_mangle]
 pub extern "C" fn __aeabi_uidiv(n: u32, d: u32) -> u32 {
-    udivmod32(n, d).0
+    let mut rem = 0;
+    udivmod(n as u64, d as u64, &mut rem) as u32
 }
 
 /// `u32 / u32` and `u32 % u32`: quotient in r0, remainder in r1 (a u64's
 /// halves as AAPCS returns it).
 #[no_mangle]
 pub extern "C" fn __aeabi_uidivmod(n: u32, d: u32) -> u64 {
-    let (q, r) = udivmod32(n, d);
-    q as u64 | (r as u64) << 32
+    let mut rem = 0;
+    let q = udivmod(n as u64, d as u64, &mut rem);
+    q as u32 as u64 | rem << 32
 }

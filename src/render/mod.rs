@@ -16,6 +16,7 @@ use crate::number::Scalar;
 use crate::render::cull::LensCones;
 use crate::render::defocus::Defocus;
 use crate::scene::Scene;
+use core::borrow::Borrow;
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Point, Size};
 use embedded_graphics_core::pixelcolor::Rgb888;
@@ -36,6 +37,12 @@ use adaptive::Sums;
 /// [`StopRule`] (set once, by [`Renderer::new`]) and the pixel's own
 /// position, so rows may be rendered in any order or in parallel.
 ///
+/// The set-up beside the scene ([`Setup`]) is its own (`P` = [`Setup`]), or
+/// lent by a loaded baked scene (`P` = `&Setup`, [`Baked::lend`]): a
+/// microcontroller then holds one copy of it, not two.
+///
+/// [`Baked::lend`]: crate::baked::Baked::lend
+///
 /// ```
 /// use lensray::{Renderer, Scene, I16F16};
 /// use embedded_graphics_core::pixelcolor::Rgb888;
@@ -49,8 +56,16 @@ use adaptive::Sums;
 /// # Ok::<(), lensray::ParseError>(())
 /// ```
 #[derive(Clone, Debug)]
-pub struct Renderer<'a, S: Scalar> {
+pub struct Renderer<'a, S: Scalar, P = Setup<S>> {
     pub(crate) scene: &'a Scene<S>,
+    pub(crate) setup: P,
+}
+
+/// What a [`Renderer`] holds besides its scene: the camera set up for one
+/// image size, what the lens rays can reach, their footprints, the
+/// samples and the stop rule.
+#[derive(Clone, Debug)]
+pub struct Setup<S: Scalar> {
     pub(crate) camera: Camera<S>,
     /// The objects each lens ray can reach, precomputed for this camera.
     pub(crate) cones: LensCones<S>,
@@ -85,8 +100,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// where `Renderer::new(..).with_samples(n)` runs two.
     pub fn new_with_samples(scene: &'a Scene<S>, cols: u32, rows: u32, samples: Option<u32>) -> Self {
         let camera = Camera::new(&scene.camera, cols, rows);
-        let r = Renderer {
-            scene,
+        let setup = Setup {
             camera,
             cones: LensCones::new(scene, scene.camera.lens_position, scene.camera.radius),
             defocus: Defocus::new(scene),
@@ -94,27 +108,36 @@ impl<'a, S: Scalar> Renderer<'a, S> {
             sampler: scene.camera.sampler,
             stop: None,
         };
-        r.surveyed()
+        Renderer { scene, setup }.surveyed()
     }
 
     /// The same renderer with `samples` lens samples a pixel (clamped to
     /// 1..=65535) in place of the scene's `point`; the stop rule is set again.
     pub fn with_samples(mut self, samples: u32) -> Self {
-        self.samples = samples.clamp(1, 65535);
+        self.setup.samples = samples.clamp(1, 65535);
         self.surveyed()
     }
 
     /// Sets the stop rule from the pre-pass where the scene asks for
     /// adaptive sampling ([`adaptive::survey`]); none otherwise.
     fn surveyed(mut self) -> Self {
-        self.stop = None;
-        if self.scene.camera.adaptive && !self.camera.is_pinhole() {
+        self.setup.stop = None;
+        if self.scene.camera.adaptive && !self.setup.camera.is_pinhole() {
             let run = |x, y, pilot, record: &mut dyn FnMut(u32, &Sums<S>) -> bool| {
                 self.lens_pixel((x, y), Some(pilot), record).0
             };
-            self.stop = adaptive::survey(self.samples, self.size(), run);
+            let stop = adaptive::survey(self.setup.samples, self.size(), run);
+            self.setup.stop = stop;
         }
         self
+    }
+}
+
+impl<'a, S: Scalar, P: Borrow<Setup<S>>> Renderer<'a, S, P> {
+    /// The set-up, owned or lent.
+    #[inline(always)]
+    fn s(&self) -> &Setup<S> {
+        self.setup.borrow()
     }
 
     /// A lens pixel's mean colour and rays ([`adaptive::pixel`]): its
@@ -126,38 +149,39 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         pilot: Option<u32>,
         stop: impl FnMut(u32, &Sums<S>) -> bool,
     ) -> (Vec3<S>, u32) {
-        let film = self.camera.film_point(col, row);
-        let mut lens = PixelSamples::new(self.sampler, col, row);
-        let stratified = self.sampler == Sampler::Stratified;
+        let s = self.s();
+        let film = s.camera.film_point(col, row);
+        let mut lens = PixelSamples::new(s.sampler, col, row);
+        let stratified = s.sampler == Sampler::Stratified;
         // A cell's radius changes at the pixel's checks only.
         let mut cell = (0, S::ZERO);
         let cast = |strata: u32| {
-            let ray = self.camera.generate_ray(&CameraSample {
+            let ray = s.camera.generate_ray(&CameraSample {
                 film: &film,
-                lens: Some(lens.next(self.camera.aperture())),
+                lens: Some(lens.next(s.camera.aperture())),
             });
             if cell.0 != strata {
-                cell = (strata, self.defocus.stratum(strata));
+                cell = (strata, s.defocus.stratum(strata));
             }
-            let footprint = stratified.then_some((&self.defocus, cell.1));
-            self.scene.trace_ray(&ray, Some(&self.cones), footprint)
+            let footprint = stratified.then_some((&s.defocus, cell.1));
+            self.scene.trace_ray(&ray, Some(&s.cones), footprint)
         };
-        adaptive::pixel(self.samples, pilot, cast, stop)
+        adaptive::pixel(s.samples, pilot, cast, stop)
     }
 
     /// The image size in pixels: columns, rows.
     pub fn size(&self) -> (u32, u32) {
-        (self.camera.cols(), self.camera.rows())
+        (self.s().camera.cols(), self.s().camera.rows())
     }
 
     /// The most rays a pixel casts: 1 for a pinhole camera; where the stop
     /// rule is plain samples within the budget, those; else the sample count.
     pub fn rays_per_pixel(&self) -> u32 {
-        match self.stop {
-            _ if self.camera.is_pinhole() => 1,
+        match self.s().stop {
+            _ if self.s().camera.is_pinhole() => 1,
             // Plain samples within the budget: every pixel stops at the pilot.
-            Some(rule) if rule.threshold == u32::MAX => rule.pilot.min(self.samples),
-            _ => self.samples,
+            Some(rule) if rule.threshold == u32::MAX => rule.pilot.min(self.s().samples),
+            _ => self.s().samples,
         }
     }
 
@@ -165,7 +189,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// lens camera with room for it): its pilot, threshold and the rays its
     /// pre-pass cast.
     pub fn stop_rule(&self) -> Option<StopRule> {
-        self.stop
+        self.s().stop
     }
 
     /// The scene this renderer draws.
@@ -181,10 +205,10 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     ///
     /// Never: all arithmetic saturates.
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
-        if self.camera.is_pinhole() {
+        if self.s().camera.is_pinhole() {
             return (self.trace(&self.camera_ray(col, row, None)), 1);
         }
-        let Some(rule) = self.stop else {
+        let Some(rule) = self.s().stop else {
             return self.lens_pixel((col, row), None, |_, _| false);
         };
         // Checks at the pilot and at each power of two past it.
@@ -209,7 +233,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// Never, for any `row` and any length of `out`.
     pub fn render_row(&self, row: u32, out: &mut [Rgb888]) -> u32 {
         let mut rays = 0u32;
-        for (col, px) in (0..self.camera.cols()).zip(out.iter_mut()) {
+        for (col, px) in (0..self.s().camera.cols()).zip(out.iter_mut()) {
             let (c, n) = self.pixel_rays(col, row);
             *px = rgb(c);
             rays = rays.saturating_add(n);
@@ -221,8 +245,8 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// on the unit disc, as [`CameraSample::lens`]), or its chief ray for
     /// `None`: what [`Renderer::trace`] and [`Renderer::hit`] take.
     pub fn camera_ray(&self, col: u32, row: u32, p_lens: Option<(i32, i32)>) -> Ray<S> {
-        let film = self.camera.film_point(col, row);
-        self.camera.generate_ray(&CameraSample {
+        let film = self.s().camera.film_point(col, row);
+        self.s().camera.generate_ray(&CameraSample {
             film: &film,
             lens: p_lens,
         })
@@ -231,14 +255,14 @@ impl<'a, S: Scalar> Renderer<'a, S> {
     /// The colour a camera ray sees (section 4 of the scene format), with
     /// no checker footprint: a point sample.
     pub fn trace(&self, ray: &Ray<S>) -> Vec3<S> {
-        self.scene.trace_ray(ray, Some(&self.cones), None)
+        self.scene.trace_ray(ray, Some(&self.s().cones), None)
     }
 
     /// The nearest object a camera ray meets, as its index in the scene's
     /// objects and its distance along the ray; `None` for a miss.
     pub fn hit(&self, ray: &Ray<S>) -> Option<(usize, S)> {
         self.scene
-            .closest_hit_camera_ray(ray, &self.cones)
+            .closest_hit_camera_ray(ray, &self.s().cones)
             .map(|(i, h)| (i, h.t))
     }
 }
@@ -292,9 +316,10 @@ where
 /// # Panics
 ///
 /// Never.
-pub fn render_with<S, D>(renderer: &Renderer<'_, S>, target: &mut D) -> Result<(), D::Error>
+pub fn render_with<S, P, D>(renderer: &Renderer<'_, S, P>, target: &mut D) -> Result<(), D::Error>
 where
     S: Scalar,
+    P: Borrow<Setup<S>>,
     D: DrawTarget,
     D::Color: From<Rgb888>,
 {
@@ -313,10 +338,14 @@ where
 /// Only pixels with an i32 address are drawn: a target near the edge of the
 /// plane gets the part of the image that fits (`origin + row` would overflow).
 #[inline]
-pub(crate) fn addressable_area<S: Scalar, D: DrawTarget>(renderer: &Renderer<'_, S>, target: &D) -> (Point, u32, u32) {
+pub(crate) fn addressable_area<S: Scalar, P: Borrow<Setup<S>>, D: DrawTarget>(
+    renderer: &Renderer<'_, S, P>,
+    target: &D,
+) -> (Point, u32, u32) {
     let origin = target.bounding_box().top_left;
-    let cols = renderer.camera.cols().min(addressable(origin.x));
-    let rows = renderer.camera.rows().min(addressable(origin.y));
+    let (cols, rows) = renderer.size();
+    let cols = cols.min(addressable(origin.x));
+    let rows = rows.min(addressable(origin.y));
     (origin, cols, rows)
 }
 

@@ -206,7 +206,7 @@ where
     let renderer = pass_renderer(renderer, pass);
     let step = pass.step.max(1);
     let mut rays = 0;
-    for row in (0..renderer.camera.rows()).step_by(step as usize) {
+    for row in (0..renderer.size().1).step_by(step as usize) {
         rays += draw_band(&renderer, target, pass, row)?;
     }
     Ok(rays)
@@ -240,8 +240,8 @@ fn pass_renderer<'a, S: Scalar>(renderer: &Renderer<'a, S>, pass: &Pass) -> Rend
     let mut r = renderer.clone();
     if pass.samples < r.rays_per_pixel() {
         // A preview: every pixel its few samples, no stop rule.
-        r.samples = pass.samples.max(1);
-        r.stop = None;
+        r.setup.samples = pass.samples.max(1);
+        r.setup.stop = None;
     }
     r
 }

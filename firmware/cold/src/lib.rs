@@ -14,7 +14,7 @@ pub mod semihosting;
 pub mod stack_paint;
 
 use lensray::baked::{BakeError, Baked};
-use lensray::{Renderer, I16F16};
+use lensray::I16F16;
 use semihosting::HostFile;
 
 /// A number type whose baked scenes this crate loads: each method is
@@ -24,8 +24,6 @@ pub trait Load: lensray::baked::BakeScalar {
     fn empty() -> Baked<Self>;
     /// `Baked::load`: checks `bytes` and loads them over `loaded`.
     fn load(loaded: &mut Baked<Self>, bytes: &[u8]) -> Result<(), BakeError>;
-    /// `Baked::take_renderer`.
-    fn take_renderer(loaded: &mut Baked<Self>) -> Renderer<'_, Self>;
 }
 
 macro_rules! load_for {
@@ -39,17 +37,15 @@ macro_rules! load_for {
             fn load(loaded: &mut Baked<Self>, bytes: &[u8]) -> Result<(), BakeError> {
                 loaded.load(bytes)
             }
-            #[inline(never)]
-            fn take_renderer(loaded: &mut Baked<Self>) -> Renderer<'_, Self> {
-                loaded.take_renderer()
-            }
         }
     )*};
 }
 load_for!(I16F16, f32);
 
-/// Loads the baked `bytes` into `loaded`, or says on `console` why not
-/// (named without `core::fmt`: the host's `lensray bake` gives the details).
+/// Loads the baked `bytes` into `loaded`, or says on `console` why not:
+/// the field for a value out of range, one line for any other fault (the
+/// bytes were baked by this build's own library; the host's `lensray bake`
+/// names every fault, and seven phrases here cost the micro:bit's flash).
 pub fn load_baked<S: Load>(loaded: &mut Baked<S>, bytes: &[u8], name: &str, console: &mut HostFile) -> bool {
     match S::load(loaded, bytes) {
         Ok(()) => true,
@@ -62,16 +58,9 @@ pub fn load_baked<S: Load>(loaded: &mut Baked<S>, bytes: &[u8], name: &str, cons
 
 #[inline(never)]
 fn say_load_error(e: BakeError, name: &str, console: &mut HostFile) {
-    use BakeError as E;
     let what = match e {
-        E::Truncated { .. } => "truncated",
-        E::TrailingBytes { .. } => "bytes past its length",
-        E::ForeignMagic => "not a baked lensray scene",
-        E::Version { .. } => "another format version",
-        E::NumberType { .. } => "baked for the other number type",
-        E::Checksum => "checksum mismatch: corrupted",
-        E::OutOfRange(field) => field,
-        _ => "bad payload",
+        BakeError::OutOfRange(field) => field,
+        _ => "corrupt, truncated or not this build's",
     };
     console.text(name).text(" (baked): ").text(what).text("\n");
 }
