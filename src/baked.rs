@@ -154,8 +154,6 @@ pub fn bake<S: BakeScalar, P: Borrow<Setup<S>>>(
 pub struct Baked<S: BakeScalar> {
     scene: Scene<S>,
     setup: Setup<S>,
-    /// The cones were moved out by [`Baked::take_renderer`].
-    taken: bool,
 }
 
 impl<S: BakeScalar> Baked<S> {
@@ -164,7 +162,6 @@ impl<S: BakeScalar> Baked<S> {
         Baked {
             scene: Scene::default(),
             setup: Self::blank_setup(),
-            taken: false,
         }
     }
 
@@ -193,8 +190,6 @@ impl<S: BakeScalar> Baked<S> {
     ///
     /// Never, whatever the bytes.
     pub fn load(&mut self, bytes: &[u8]) -> Result<(), BakeError> {
-        // Whatever comes of it, the cones and footprints are the new ones (or blank).
-        self.taken = false;
         let result = self.load_checked(bytes);
         if result.is_err() {
             self.clear();
@@ -314,49 +309,18 @@ impl<S: BakeScalar> Baked<S> {
     }
 
     /// The renderer the bytes were baked from: the same pixels.
-    ///
-    /// # Panics
-    ///
-    /// After [`Baked::take_renderer`], until the next [`Baked::load`].
     pub fn renderer(&self) -> Renderer<'_, S> {
-        assert!(!self.taken, "the renderer was taken: load again");
         Renderer {
             scene: &self.scene,
             setup: self.setup.clone(),
         }
     }
 
-    /// [`Baked::renderer`] moving the cones out instead of copying them
-    /// (one block move, not heapless's loop per element). Once per load: a
-    /// second call before the next [`Baked::load`] empties the scene first
-    /// (renders black: a renderer without them would be wrong), and
-    /// [`Baked::renderer`] panics. Returned plainly, not as an `Option`:
-    /// that cost the Cortex-M0 a second copy on the stack.
-    pub fn take_renderer(&mut self) -> Renderer<'_, S> {
-        if self.taken {
-            self.clear();
-        }
-        self.taken = true;
-        let setup = &mut self.setup;
-        Renderer {
-            scene: &self.scene,
-            setup: Setup {
-                cones: core::mem::replace(&mut setup.cones, LensCones::blank()),
-                ..*setup
-            },
-        }
-    }
-
     /// The renderer the bytes were baked from, lent the set-up it renders
     /// with rather than given a copy: the same pixels as
     /// [`Baked::renderer`] with no second camera and lens cones in memory
-    /// (a microcontroller's). After [`Baked::take_renderer`], until the
-    /// next [`Baked::load`], the empty scene's (renders black).
-    pub fn lend(&mut self) -> Renderer<'_, S, &Setup<S>> {
-        if self.taken {
-            self.clear();
-            self.taken = false;
-        }
+    /// (a microcontroller's).
+    pub fn lend(&self) -> Renderer<'_, S, &Setup<S>> {
         Renderer {
             scene: &self.scene,
             setup: &self.setup,
