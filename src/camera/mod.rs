@@ -185,6 +185,9 @@ pub struct FilmFrame {
     half: (f64, f64),
     pitch: f64,
     size: (u32, u32),
+    /// How far a lens ray's direction may turn from its pixel's chief ray:
+    /// `asin(a / z_f)`, the lens radius over the focus distance; 0 for a pinhole.
+    spread: f64,
 }
 
 impl FilmFrame {
@@ -194,21 +197,38 @@ impl FilmFrame {
         let rows = rows.clamp(1, MAX_IMAGE_SIDE);
         // Pixel pitch p, film half-width W and half-height H.
         let pitch = params.width / cols as f64;
+        let (a, big_n, f) = (params.radius, params.image_distance, params.focal_length);
+        // A lens ray runs from a lens point to the pixel's point in focus, at
+        // depth z_f = N f / (N - f) or farther: a / z_f off its chief ray at most.
+        let spread = if a > 0.0 && big_n > f && f > 0.0 {
+            libm::asin((a * (big_n - f) / (big_n * f)).min(1.0))
+        } else if a > 0.0 {
+            core::f64::consts::FRAC_PI_2
+        } else {
+            0.0
+        };
         FilmFrame {
             basis: basis(params).unwrap_or([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
             big_n: params.image_distance,
             half: (params.width / 2.0, pitch * rows as f64 / 2.0),
             pitch,
             size: (cols, rows),
+            spread,
         }
     }
 
-    /// The pixels whose chief rays (from the lens centre) run within the
+    /// The pixels any of whose rays (through any lens point) run within the
     /// angle `acos(cos)` of the unit world direction `axis`: columns
     /// `[0]..=[1]` and rows `[2]..=[3]`, a pixel wider on each side; every
     /// pixel where that cone reaches the film's plane or behind it.
     pub fn cone_pixels(&self, axis: [f64; 3], cos: f64) -> [i16; 4] {
         let any = [i16::MIN, i16::MAX, i16::MIN, i16::MAX];
+        // A chief ray within the spread of that cone: the cone widened by it.
+        let angle = libm::acos(cos.clamp(-1.0, 1.0)) + self.spread;
+        if angle >= core::f64::consts::FRAC_PI_2 {
+            return any;
+        }
+        let cos = libm::cos(angle);
         let [u, v, n] = self.basis;
         let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         // The axis in camera space: x along u, y along v, z forward (-n).

@@ -156,6 +156,7 @@ impl<'a, S: Scalar, P: Borrow<Setup<S>>> Renderer<'a, S, P> {
     ) -> (Vec3<S>, u32) {
         let s = self.s();
         let film = s.camera.film_point(col, row);
+        let pixel = Some((col.min(MAX_IMAGE_SIDE) as i16, row.min(MAX_IMAGE_SIDE) as i16));
         let mut lens = PixelSamples::new(s.sampler, col, row);
         let stratified = s.sampler == Sampler::Stratified;
         // A cell's radius changes at the pixel's checks only.
@@ -169,7 +170,7 @@ impl<'a, S: Scalar, P: Borrow<Setup<S>>> Renderer<'a, S, P> {
                 cell = (strata, s.defocus.stratum(strata));
             }
             let footprint = stratified.then_some((&s.defocus, cell.1));
-            self.scene.trace_ray(&ray, Some(&s.cones), footprint, None)
+            self.scene.trace_ray(&ray, Some(&s.cones), footprint, pixel)
         };
         adaptive::pixel(s.samples, pilot, cast, stop)
     }
