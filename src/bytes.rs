@@ -9,7 +9,7 @@ use fixed::types::I16F16;
 /// The first four bytes of every baked scene.
 pub const MAGIC: [u8; 4] = *b"LRBK";
 /// The format this library writes and reads. Bump it when any baked struct changes.
-pub const FORMAT_VERSION: u16 = 20;
+pub const FORMAT_VERSION: u16 = 21;
 /// Bytes before the payload: magic, version, number type, reserved, length.
 pub const HEADER_LEN: usize = 12;
 /// Bytes after the payload: the CRC-32.

@@ -176,6 +176,89 @@ pub fn basis(params: &CameraParams) -> Option<[[f64; 3]; 3]> {
     Some([u, v, n])
 }
 
+/// Where a camera's film lies, in f64, for set-up: the basis (u, v, n),
+/// the image distance N, the film's half sides W and H and the pixel pitch.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct FilmFrame {
+    basis: [[f64; 3]; 3],
+    big_n: f64,
+    half: (f64, f64),
+    pitch: f64,
+    size: (u32, u32),
+    /// How far a lens ray's direction may turn from its pixel's chief ray:
+    /// `asin(a / z_f)`, the lens radius over the focus distance; 0 for a pinhole.
+    spread: f64,
+}
+
+impl FilmFrame {
+    /// The film of `cols` × `rows` pixels (each clamped to 1..=[`MAX_IMAGE_SIDE`]).
+    pub fn new(params: &CameraParams, cols: u32, rows: u32) -> Self {
+        let cols = cols.clamp(1, MAX_IMAGE_SIDE);
+        let rows = rows.clamp(1, MAX_IMAGE_SIDE);
+        // Pixel pitch p, film half-width W and half-height H.
+        let pitch = params.width / cols as f64;
+        let (a, big_n, f) = (params.radius, params.image_distance, params.focal_length);
+        // A lens ray runs from a lens point to the pixel's point in focus, at
+        // depth z_f = N f / (N - f) or farther: a / z_f off its chief ray at most.
+        let spread = if a > 0.0 && big_n > f && f > 0.0 {
+            libm::asin((a * (big_n - f) / (big_n * f)).min(1.0))
+        } else if a > 0.0 {
+            core::f64::consts::FRAC_PI_2
+        } else {
+            0.0
+        };
+        FilmFrame {
+            basis: basis(params).unwrap_or([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
+            big_n: params.image_distance,
+            half: (params.width / 2.0, pitch * rows as f64 / 2.0),
+            pitch,
+            size: (cols, rows),
+            spread,
+        }
+    }
+
+    /// The pixels any of whose rays (through any lens point) run within the
+    /// angle `acos(cos)` of the unit world direction `axis`: columns
+    /// `[0]..=[1]` and rows `[2]..=[3]`, a pixel wider on each side; every
+    /// pixel where that cone reaches the film's plane or behind it.
+    pub fn cone_pixels(&self, axis: [f64; 3], cos: f64) -> [i16; 4] {
+        let any = [i16::MIN, i16::MAX, i16::MIN, i16::MAX];
+        // A chief ray within the spread of that cone: the cone widened by it.
+        let angle = libm::acos(cos.clamp(-1.0, 1.0)) + self.spread;
+        if angle >= core::f64::consts::FRAC_PI_2 {
+            return any;
+        }
+        let cos = libm::cos(angle);
+        let [u, v, n] = self.basis;
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        // The axis in camera space: x along u, y along v, z forward (-n).
+        let (ax, ay, az) = (dot(axis, u), dot(axis, v), -dot(axis, n));
+        // The cone is the one tangent to a sphere of radius sin θ at the axis's tip.
+        let rho = libm::sqrt((1.0 - cos * cos).max(0.0));
+        if !(cos > 0.0 && az > rho * (1.0 + 1e-9) + 1e-12) {
+            return any;
+        }
+        // The slopes m of the two planes through the eye tangent to it: x = m z (or y = m z).
+        let den = az * az - rho * rho;
+        let slopes = |a: f64| {
+            let root = rho * libm::sqrt((a * a + den).max(0.0));
+            ((a * az - root) / den, (a * az + root) / den)
+        };
+        let ((x0, x1), (y0, y1)) = (slopes(ax), slopes(ay));
+        // u_c = N m = -W + p (c + 1/2) and v_r = N m = H - p (r + 1/2).
+        let (p, (w, h), big_n) = (self.pitch, self.half, self.big_n);
+        let col = |m: f64| (big_n * m + w) / p - 0.5;
+        let row = |m: f64| (h - big_n * m) / p - 0.5;
+        let side = |lo: f64, hi: f64| {
+            let clamp = |x: f64| x.clamp(-2.0, (MAX_IMAGE_SIDE + 2) as f64) as i16;
+            (clamp(libm::floor(lo) - 1.0), clamp(libm::ceil(hi) + 1.0))
+        };
+        let (c0, c1) = side(col(x0), col(x1));
+        let (r0, r1) = side(row(y1), row(y0));
+        [c0, c1, r0, r1]
+    }
+}
+
 impl<S: Scalar> Camera<S> {
     /// Sets the camera up for `cols` × `rows` pixels (square pixels: the film's
     /// height follows from its width and the row count).
@@ -183,15 +266,11 @@ impl<S: Scalar> Camera<S> {
     /// Sizes are clamped to 1..=[`MAX_IMAGE_SIDE`]; parameters are assumed
     /// validated by the parser (a degenerate basis falls back to the default view).
     pub fn new(params: &CameraParams, cols: u32, rows: u32) -> Self {
-        let cols = cols.clamp(1, MAX_IMAGE_SIDE);
-        let rows = rows.clamp(1, MAX_IMAGE_SIDE);
-        let [u, v, n] = basis(params).unwrap_or([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+        let frame = FilmFrame::new(params, cols, rows);
+        let (cols, rows) = frame.size;
+        let [u, v, n] = frame.basis;
         let e = params.lens_position;
-        // Pixel pitch p, film half-width W and half-height H.
-        let p = params.width / cols as f64;
-        let half_w = params.width / 2.0;
-        let half_h = p * rows as f64 / 2.0;
-        let big_n = params.image_distance;
+        let (p, half_w, half_h, big_n) = (frame.pitch, frame.half.0, frame.half.1, frame.big_n);
         // u_c = −W + p (c + ½) = (p/2)(2c + 1) − W; v_r = H − (p/2)(2r + 1).
         let f = params.focal_length;
         let pinhole = params.radius.is_nan() || params.radius <= 0.0;

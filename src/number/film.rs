@@ -9,7 +9,7 @@
 
 use crate::number::plane::{below_q16, round_f64, unit_mantissas};
 use crate::number::q16::{shr_round, shr_round_call, FixedDir};
-use crate::number::wide::{bits_u64_inline, mul_i32, mul_i32_inline};
+use crate::number::wide::{bits_u64_inline, mul_i32_short};
 use fixed::types::I16F16;
 
 /// The map's exact parts, from the camera's set-up (world space).
@@ -157,12 +157,13 @@ impl FixedFilmMap {
     /// `D(i, j)` exactly, at scale `2^-(s + f)`.
     #[inline]
     pub fn film(&self, i: i32, j: i32) -> [i64; 3] {
-        // Constant indices, written out: no bounds check (and no panic path) at any opt-level.
+        // Constant indices, written out: no bounds check (and no panic path) at
+        // any opt-level. Doubled indices are at most 2 MAX_IMAGE_SIDE + 1 < 2^15.
         let (a, b, c) = (&self.a, &self.b, &self.c);
         [
-            mul_i32(a[0], i) + mul_i32(b[0], j) + c[0],
-            mul_i32(a[1], i) + mul_i32(b[1], j) + c[1],
-            mul_i32(a[2], i) + mul_i32(b[2], j) + c[2],
+            mul_i32_short(a[0], i) + mul_i32_short(b[0], j) + c[0],
+            mul_i32_short(a[1], i) + mul_i32_short(b[1], j) + c[1],
+            mul_i32_short(a[2], i) + mul_i32_short(b[2], j) + c[2],
         ]
     }
 
@@ -180,9 +181,9 @@ impl FixedFilmMap {
             let up = 15 - self.f;
             let (u, v) = (&self.k_u, &self.k_v);
             let w = [
-                (film[0] << up) - mul_i32_inline(lens.0, u[0]) - mul_i32_inline(lens.1, v[0]),
-                (film[1] << up) - mul_i32_inline(lens.0, u[1]) - mul_i32_inline(lens.1, v[1]),
-                (film[2] << up) - mul_i32_inline(lens.0, u[2]) - mul_i32_inline(lens.1, v[2]),
+                (film[0] << up) - mul_i32_short(u[0], lens.0) - mul_i32_short(v[0], lens.1),
+                (film[1] << up) - mul_i32_short(u[1], lens.0) - mul_i32_short(v[1], lens.1),
+                (film[2] << up) - mul_i32_short(u[2], lens.0) - mul_i32_short(v[2], lens.1),
             ];
             (w, 15, [0; 3])
         };

@@ -206,6 +206,11 @@ pub(crate) fn plane_hit(
         let k = bits(z.unsigned_abs()) - 32;
         (shr_round(z, k), k)
     };
+    // A plane behind the ray (or through its origin) gives t <= 0, which no
+    // t_min >= 0 takes: no division for it (the sky, half the rays away).
+    if t_min >= I16F16::ZERO && (oz == 0 || (oz > 0) == (dz > 0)) {
+        return None;
+    }
     // A hit beyond Q16.16's range is drawn at its edge, not dropped: f32
     // draws it, and only the direction of a point that far matters (and its
     // texture: see [`far_xy`]).

@@ -9,6 +9,7 @@
 //! bounding sphere, a dozen products, becomes `d · axis < cos θ` for the
 //! objects the ray misses by a wide margin: most of them, for most rays.
 
+use crate::camera::FilmFrame;
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
 use crate::scene::{Scene, MAX_OBJECTS};
@@ -22,10 +23,18 @@ struct Cone<S> {
     cos_min: S,
     /// Every direction may reach it (the plane; a lens inside the sphere).
     always: bool,
+    /// The pixels some of whose rays may pass `d · axis >= cos_min`:
+    /// columns `[0]..=[1]`, rows `[2]..=[3]` (every pixel where not known).
+    pixels: [i16; 4],
 }
 
 impl<S: crate::bytes::Field> crate::bytes::Field for Cone<S> {
-    crate::bytes::baked_fields!(Cone { axis, cos_min, always });
+    crate::bytes::baked_fields!(Cone {
+        axis,
+        cos_min,
+        always,
+        pixels
+    });
 }
 
 /// The lens's cones for every object of a scene, in the scene's order.
@@ -42,14 +51,24 @@ impl<S: Scalar + crate::bytes::Field> crate::bytes::Field for LensCones<S> {
     crate::bytes::baked_fields!(LensCones { cones, from_eye });
 }
 
+/// Every pixel: a cone without a box on the film.
+const ANY_PIXEL: [i16; 4] = [i16::MIN, i16::MAX, i16::MIN, i16::MAX];
+
 /// Slack on `cos θ` for the rounding of the direction, the axis and their dot
 /// product in Q16.16 (each within a few 2^-17): 2^-12.
 const SLACK: f64 = 1.0 / 4096.0;
 
+/// How far below `cos_min` a chief ray's exact `cos` may lie and still pass
+/// the test in `S`: the rounded direction, axis and dot product are within
+/// 7 · 2^-17 of exact; the pixel boxes are cut 2^-12 below.
+const COS_ROUNDING: f64 = 1.0 / 4096.0;
+
 impl<S: Scalar> LensCones<S> {
     /// The cones seen from a lens of radius `radius` (0 for a pinhole) centred
-    /// at `eye`, in world space. Set-up only, in f64.
-    pub fn new(scene: &Scene<S>, eye: [f64; 3], radius: f64) -> Self {
+    /// at `eye`, in world space, and where the camera's `film` is given,
+    /// each cone's box of pixels on it ([`LensCones::may_reach_pixel`]).
+    /// Set-up only, in f64.
+    pub fn new(scene: &Scene<S>, eye: [f64; 3], radius: f64, film: Option<&FilmFrame>) -> Self {
         // As the camera decides it: every camera ray then leaves from the eye.
         let pinhole = radius.is_nan() || radius <= 0.0;
         let mut from_eye = false;
@@ -62,6 +81,7 @@ impl<S: Scalar> LensCones<S> {
             axis: Vec3::ZERO,
             cos_min: S::ZERO,
             always: true,
+            pixels: ANY_PIXEL,
         };
         let mut cones = heapless::Vec::new();
         for obj in &scene.objects {
@@ -72,6 +92,7 @@ impl<S: Scalar> LensCones<S> {
                     axis: Vec3::new(a, b, c),
                     cos_min: d,
                     always: true,
+                    pixels: ANY_PIXEL,
                 });
                 continue;
             }
@@ -83,10 +104,13 @@ impl<S: Scalar> LensCones<S> {
                     return every;
                 }
                 let sin = reach / dist;
+                let axis = w.map(|x| x / dist);
+                let cos_min = libm::sqrt(1.0 - sin * sin) - SLACK;
                 Cone {
-                    axis: Vec3::from_f64(w.map(|x| x / dist)),
-                    cos_min: S::from_f64(libm::sqrt(1.0 - sin * sin) - SLACK),
+                    axis: Vec3::from_f64(axis),
+                    cos_min: S::from_f64(cos_min),
                     always: false,
+                    pixels: film.map_or(ANY_PIXEL, |f| f.cone_pixels(axis, cos_min - COS_ROUNDING)),
                 }
             });
             // One cone per object: the scene holds at most MAX_OBJECTS.
@@ -110,11 +134,21 @@ impl<S: Scalar> LensCones<S> {
         self.cones.len()
     }
 
-    /// Whether a ray from the lens along the unit `d` can reach object `i`.
+    /// Whether a ray from the lens along the unit `d` can reach object `i`;
+    /// for a camera ray of `pixel` (column, row) where given, pixels outside
+    /// the cone's box on the film are out of reach without the dot product. The box holds every pixel
+    /// whose chief ray passes the dot product's test, rounding included
+    /// (docs/speed.md), so the answer is the same.
     #[inline(always)]
-    pub fn may_reach(&self, i: usize, d: Vec3<S>) -> bool {
+    pub(crate) fn may_reach_pixel(&self, i: usize, d: Vec3<S>, pixel: Option<(i16, i16)>) -> bool {
         match self.cones.get(i) {
-            Some(c) => c.always || d.dot_inline(c.axis) >= c.cos_min,
+            Some(c) => {
+                c.always
+                    || pixel.is_none_or(|(x, y)| {
+                        let [c0, c1, r0, r1] = c.pixels;
+                        c0 <= x && x <= c1 && r0 <= y && y <= r1
+                    }) && d.dot_inline(c.axis) >= c.cos_min
+            }
             None => true,
         }
     }
@@ -143,7 +177,7 @@ mod tests {
         let scene = Scene::<S>::parse(text).unwrap();
         let eye = [0.5, -0.25, 1.0];
         let radius = 0.4;
-        let cones = LensCones::new(&scene, eye, radius);
+        let cones = LensCones::new(&scene, eye, radius, None);
         let mut bits = crate::test_rng::xorshift32(0x1234_5678);
         let mut next = move || (bits() >> 8) as f64 / (1u32 << 24) as f64 * 2.0 - 1.0;
         let (mut culled, mut near_misses) = (0, 0);
@@ -156,7 +190,7 @@ mod tests {
             let d = d.map(|x| x / l);
             let dv = Vec3::<S>::from_f64(d);
             for (i, obj) in scene.objects.iter().enumerate() {
-                let reach = cones.may_reach(i, dv);
+                let reach = cones.may_reach_pixel(i, dv, None);
                 let Some((c, r)) = obj.bound() else {
                     assert!(reach, "the plane is never culled");
                     continue;
@@ -186,5 +220,86 @@ mod tests {
     fn culls_only_rays_that_miss() {
         check::<I16F16>();
         check::<f32>();
+    }
+
+    /// The pixel boxes hold every pixel some of whose rays (the chief ray,
+    /// or lens rays through random lens points) pass its cone's dot-product
+    /// test, so skipping the others changes nothing, and they leave out most
+    /// of the frame: random cameras (pinholes and lenses, tilted, wide and
+    /// narrow), objects near and far, beside and behind the eye, both types.
+    fn boxes_hold_every_passing_pixel<S: Scalar>() {
+        let mut next = crate::test_rng::unit_f64(0x5EED_0B0C);
+        let mut r = move |lo: f64, hi: f64| lo + (hi - lo) * next();
+        let (mut passed, mut skipped, mut pairs) = (0u32, 0u32, 0u32);
+        for k in 0..60 {
+            let (cols, rows) = (r(8.0, 48.0) as u32, r(6.0, 36.0) as u32);
+            let big_n = r(2.0, 12.0);
+            let radius = if k % 2 == 0 { 0.0 } else { r(0.05, 2.5) };
+            let mut text = std::format!(
+                "width {}\nimage_distance {big_n}\nfocal_length {}\nradius {radius}\n\
+                 lens_position {} {} {}\nlook {} {} -1\nup {} 1 0\n",
+                r(2.0, 20.0),
+                r(0.2, 0.95) * big_n,
+                r(-3.0, 3.0),
+                r(-3.0, 3.0),
+                r(-3.0, 3.0),
+                r(-0.8, 0.8),
+                r(-0.8, 0.8),
+                r(-0.3, 0.3)
+            );
+            for _ in 0..6 {
+                let shape = ["sphere", "cube", "cylinder", "cone"][(r(0.0, 3.99)) as usize];
+                text += &std::format!(
+                    "object {shape}\nscale {} {} {}\ntranslate {} {} {}\n",
+                    r(0.05, 2.0),
+                    r(0.05, 2.0),
+                    r(0.05, 2.0),
+                    r(-8.0, 8.0),
+                    r(-8.0, 8.0),
+                    r(-30.0, 6.0)
+                );
+            }
+            let scene = Scene::<S>::parse(&text).unwrap();
+            let renderer = crate::Renderer::new(&scene, cols, rows);
+            let cones = &renderer.s().cones;
+            for (col, row) in (0..rows).flat_map(|y| (0..cols).map(move |x| (x, y))) {
+                let pixel = Some((col as i16, row as i16));
+                // The chief ray and lens points out to the rim (Q1.15).
+                let mut lens = [None; 6];
+                for l in lens.iter_mut().skip(1).filter(|_| radius > 0.0) {
+                    let (a, m) = (r(0.0, core::f64::consts::TAU), libm::sqrt(r(0.0, 1.0)).max(r(0.9, 1.0)));
+                    *l = Some(((libm::cos(a) * m * 32767.0) as i32, (libm::sin(a) * m * 32767.0) as i32));
+                }
+                for p_lens in lens {
+                    let d = renderer.camera_ray(col, row, p_lens).dir;
+                    for i in 0..scene.objects.len() {
+                        let reach = cones.may_reach_pixel(i, d, None);
+                        assert_eq!(
+                            reach,
+                            cones.may_reach_pixel(i, d, pixel),
+                            "{text}pixel ({col}, {row}) lens {p_lens:?}, object {i}"
+                        );
+                        passed += reach as u32;
+                    }
+                }
+                for c in &cones.cones {
+                    pairs += 1;
+                    let [c0, c1, r0, r1] = c.pixels;
+                    skipped += !((c0..=c1).contains(&(col as i16)) && (r0..=r1).contains(&(row as i16))) as u32;
+                }
+            }
+        }
+        // Most pixels are boxed out of most objects: the dot products they spare.
+        assert!(
+            passed > 1000 && skipped > pairs / 2,
+            "{} passed {passed}, boxed out {skipped} of {pairs}",
+            S::NAME
+        );
+    }
+
+    #[test]
+    fn pixel_boxes_skip_only_what_the_cones_skip() {
+        boxes_hold_every_passing_pixel::<I16F16>();
+        boxes_hold_every_passing_pixel::<f32>();
     }
 }

@@ -9,7 +9,7 @@
 //! `cull`'s; a stratified ray's checker footprint is `defocus`'s.
 
 use crate::camera::sampler::{PixelSamples, Sampler};
-use crate::camera::{Camera, CameraSample};
+use crate::camera::{Camera, CameraSample, FilmFrame, MAX_IMAGE_SIDE};
 use crate::geometry::ray::Ray;
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
@@ -102,7 +102,12 @@ impl<'a, S: Scalar> Renderer<'a, S> {
         let camera = Camera::new(&scene.camera, cols, rows);
         let setup = Setup {
             camera,
-            cones: LensCones::new(scene, scene.camera.lens_position, scene.camera.radius),
+            cones: LensCones::new(
+                scene,
+                scene.camera.lens_position,
+                scene.camera.radius,
+                Some(&FilmFrame::new(&scene.camera, cols, rows)),
+            ),
             defocus: Defocus::new(scene),
             samples: samples.unwrap_or(scene.camera.samples).clamp(1, 65535),
             sampler: scene.camera.sampler,
@@ -136,7 +141,7 @@ impl<'a, S: Scalar> Renderer<'a, S> {
 impl<'a, S: Scalar, P: Borrow<Setup<S>>> Renderer<'a, S, P> {
     /// The set-up, owned or lent.
     #[inline(always)]
-    fn s(&self) -> &Setup<S> {
+    pub(crate) fn s(&self) -> &Setup<S> {
         self.setup.borrow()
     }
 
@@ -151,6 +156,7 @@ impl<'a, S: Scalar, P: Borrow<Setup<S>>> Renderer<'a, S, P> {
     ) -> (Vec3<S>, u32) {
         let s = self.s();
         let film = s.camera.film_point(col, row);
+        let pixel = Some((col.min(MAX_IMAGE_SIDE) as i16, row.min(MAX_IMAGE_SIDE) as i16));
         let mut lens = PixelSamples::new(s.sampler, col, row);
         let stratified = s.sampler == Sampler::Stratified;
         // A cell's radius changes at the pixel's checks only.
@@ -164,7 +170,7 @@ impl<'a, S: Scalar, P: Borrow<Setup<S>>> Renderer<'a, S, P> {
                 cell = (strata, s.defocus.stratum(strata));
             }
             let footprint = stratified.then_some((&s.defocus, cell.1));
-            self.scene.trace_ray(&ray, Some(&s.cones), footprint)
+            self.scene.trace_ray(&ray, Some(&s.cones), footprint, pixel)
         };
         adaptive::pixel(s.samples, pilot, cast, stop)
     }
@@ -206,7 +212,10 @@ impl<'a, S: Scalar, P: Borrow<Setup<S>>> Renderer<'a, S, P> {
     /// Never: all arithmetic saturates.
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
         if self.s().camera.is_pinhole() {
-            return (self.trace(&self.camera_ray(col, row, None)), 1);
+            let ray = self.camera_ray(col, row, None);
+            // The pixel's own: the cones' boxes skip what its chief ray cannot reach.
+            let pixel = Some((col.min(MAX_IMAGE_SIDE) as i16, row.min(MAX_IMAGE_SIDE) as i16));
+            return (self.scene.trace_ray(&ray, Some(&self.s().cones), None, pixel), 1);
         }
         let Some(rule) = self.s().stop else {
             return self.lens_pixel((col, row), None, |_, _| false);
@@ -255,7 +264,7 @@ impl<'a, S: Scalar, P: Borrow<Setup<S>>> Renderer<'a, S, P> {
     /// The colour a camera ray sees (section 4 of the scene format), with
     /// no checker footprint: a point sample.
     pub fn trace(&self, ray: &Ray<S>) -> Vec3<S> {
-        self.scene.trace_ray(ray, Some(&self.s().cones), None)
+        self.scene.trace_ray(ray, Some(&self.s().cones), None, None)
     }
 
     /// The nearest object a camera ray meets, as its index in the scene's

@@ -39,7 +39,7 @@ impl<S: Scalar> Scene<S> {
 
     /// The nearest object hit by the ray `o + t d` (unit `d`) with `t_min < t`.
     pub fn closest_hit(&self, o: Vec3<S>, d: Vec3<S>, t_min: S) -> Option<(usize, Hit<S>)> {
-        self.closest_hit_culled(o, d, S::dir_from(d.to_array()), t_min, None)
+        self.closest_hit_culled(o, d, S::dir_from(d.to_array()), t_min, None, None)
     }
 
     /// The nearest object hit by a camera ray (which leaves the lens: see
@@ -47,7 +47,7 @@ impl<S: Scalar> Scene<S> {
     /// are the camera's own: a pinhole's hold its planes' terms for rays
     /// from its eye.
     pub(crate) fn closest_hit_camera_ray(&self, ray: &Ray<S>, cones: &LensCones<S>) -> Option<(usize, Hit<S>)> {
-        self.closest_hit_culled(ray.origin, ray.dir, ray.precise, S::HIT_EPSILON, Some(cones))
+        self.closest_hit_culled(ray.origin, ray.dir, ray.precise, S::HIT_EPSILON, Some(cones), None)
     }
 
     /// The nearest hit, skipping the objects a ray from the lens cannot
@@ -61,11 +61,12 @@ impl<S: Scalar> Scene<S> {
         precise: S::Dir,
         t_min: S,
         cones: Option<&LensCones<S>>,
+        pixel: Option<(i16, i16)>,
     ) -> Option<(usize, Hit<S>)> {
         let window = S::from_q15(128);
         let mut best: Option<(usize, Hit<S>)> = None;
         for (i, obj) in self.objects.iter().enumerate() {
-            if cones.is_some_and(|c| !c.may_reach(i, d)) {
+            if cones.is_some_and(|c| !c.may_reach_pixel(i, d, pixel)) {
                 continue;
             }
             let t_max = best.map_or(S::MAX, |(_, h)| h.t);
@@ -135,7 +136,7 @@ impl<S: Scalar> Scene<S> {
             dir: d,
             precise: S::dir_from(d.to_array()),
         };
-        self.trace_ray(&ray, None, None)
+        self.trace_ray(&ray, None, None, None)
     }
 
     /// The colour seen along `ray`, unclamped, skipping the objects out of
@@ -148,9 +149,10 @@ impl<S: Scalar> Scene<S> {
         ray: &Ray<S>,
         cones: Option<&LensCones<S>>,
         footprint: Option<(&Defocus<S>, S)>,
+        pixel: Option<(i16, i16)>,
     ) -> Vec3<S> {
         let (o, d, precise) = (ray.origin, ray.dir, ray.precise);
-        let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::HIT_EPSILON, cones) else {
+        let Some((i, hit)) = self.closest_hit_culled(o, d, precise, S::HIT_EPSILON, cones, pixel) else {
             return self.background;
         };
         // Always there (the search's own index); `get` spares a panicking bounds check.
