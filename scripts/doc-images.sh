@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The pictures of README.md and docs/, each from the command beside it:
 #   bash scripts/doc-images.sh          (about 5 minutes on 2 cores, the Pico's run most of it)
-# docs/sampling.png comes from scripts/bench-sampling.sh, docs/web-page.png
-# from the browser tests (LENSRAY_SCREENSHOTS=docs bash scripts/web-tests.sh).
+# docs/sampling.png comes from scripts/bench-sampling.sh; docs/web-page.png and
+# docs/web-error.png are screenshots of the page (bash web/build.sh && bash
+# web/serve.sh, then a browser at http://localhost:8000/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release -q
