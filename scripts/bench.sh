@@ -5,8 +5,9 @@
 # - every QEMU board (micro:bit Cortex-M0, MPS2 Cortex-M3 and Cortex-M4F,
 #   SiFive E RV32) with -icount shift=0: instructions per pixel and per ray for
 #   Program 1 at 160x120, pinhole and with 16 lens samples, Q16.16 and f32,
-#   flash, static RAM and peak stack; the micro:bit's default build; the Pico
-#   under rp2040js (cycles a pixel);
+#   flash, static RAM and peak stack, with the instructions as bar charts
+#   (docs/bench-boards-*.png); the micro:bit's default build; the Pico
+#   under rp2040js (cycles a pixel, Program 1 as a pinhole);
 # - a per-operation profile on the Cortex-M0 (firmware feature `profile`);
 # - host rays per second (criterion, host-tests/benches/render.rs), one thread
 #   and all cores, with the machine's load, and the parallel speedup measured
@@ -129,6 +130,24 @@ for board in "${boards[@]}"; do
   done
 done
 
+# The boards' instructions a pixel as bar charts (host-tests/examples/bar_chart.rs).
+step "plots: docs/bench-boards-pinhole.png, docs/bench-boards-lens.png"
+board_label() {
+  case $1 in
+    microbit) echo "micro:bit (Cortex-M0)" ;;
+    mps2-an385) echo "MPS2 AN385 (Cortex-M3)" ;;
+    mps2-an386) echo "MPS2 AN386 (Cortex-M4F)" ;;
+    sifive-e) echo "SiFive E (RV32IMAC)" ;;
+  esac
+}
+bars() { # mode title out
+  local groups=()
+  for b in "${boards[@]}"; do groups+=("$(board_label "$b")=${per_pixel[$b-$1-q16]},${per_pixel[$b-$1-f32]}"); done
+  cargo run --release -q -p lensray-host --example bar_chart -- "$3" "$2" "Q16.16,f32" "${groups[@]}" >&2
+}
+bars pinhole "Program 1 through a pinhole, ${W}x${H}: instructions a pixel under QEMU (fewer is faster)" docs/bench-boards-pinhole.png
+bars lens16 "Program 1, radius 0.2, 16 lens samples, ${W}x${H}: instructions a pixel under QEMU" docs/bench-boards-lens.png
+
 # The micro:bit's default build, as tests/firmware.rs holds it: Program 1 at
 # its defaults (point 70, stratified and adaptive), baked, 160x120.
 step "microbit: the default build (Program 1 at its defaults)"
@@ -217,6 +236,13 @@ step "writing $out"
   echo "| board | camera | rays/pixel | number | instructions/pixel | instructions/ray | flash (text) bytes | static RAM bytes | peak stack bytes |"
   echo "|---|---|---|---|---|---|---|---|---|"
   printf '%s\n' "${rows[@]}"
+  echo
+  echo "![Instructions a pixel on each QEMU board, Program 1 through a pinhole, Q16.16 and f32](docs/bench-boards-pinhole.png)"
+  echo
+  echo "![Instructions a pixel on each QEMU board, Program 1 with 16 lens samples, Q16.16 and f32](docs/bench-boards-lens.png)"
+  echo
+  echo "The two plots: the table's instructions a pixel, drawn by"
+  echo "\`cargo run --release -p lensray-host --example bar_chart -- OUT TITLE SERIES LABEL=V,V...\`."
   echo
   echo "Flash is the firmware's \`.text\` (code and constants: the baked scene included;"
   echo "\`llvm-size\`); static RAM is \`.data\` + \`.bss\`; the peak stack is measured by"
