@@ -344,14 +344,14 @@ step "writing $out"
   echo "cargo bench -p lensray-host --bench speedup"
   echo '```'
   echo
-  echo "$(paired "program1-160x120/Q16.16/pinhole" rounds) rounds a render, each rendering the frame for about 40 ms on one"
+  echo "$(paired "program1-160x120/Q16.16/pinhole" rounds) repetitions a render, each rendering the frame for about 40 ms on one"
   echo "thread and as long on all $(paired "program1-160x120/Q16.16/pinhole" threads) cores, back to back (criterion's two"
   echo "columns above are minutes apart, so their ratio also measures the neighbours),"
-  echo "and measuring the *ceiling* in the same round: as many whole frames, each"
+  echo "and measuring the *ceiling* in the same repetition: as many whole frames, each"
   echo "rendered row after row by one thread, one after another on one thread or side"
   echo "by side, one a core: the same work with nothing split or shared, the best this"
-  echo "machine gives it at that moment. The *efficiency* is a round's speedup over its"
-  echo "ceiling, what splitting a frame's rows costs. Medians over the rounds; *best* is"
+  echo "machine gives it at that moment. The *efficiency* is a repetition's speedup over"
+  echo "its ceiling, what splitting a frame's rows costs. Medians over the repetitions; *best* is"
   echo "the fastest one-thread batch over the fastest all-cores batch; *steal* the share"
   echo "of CPU time the hypervisor took."
   echo
