@@ -9,7 +9,7 @@
 #   bash scripts/bench-sampling.sh
 # Settings: LENSRAY_SAMPLING_WIDTH (320), LENSRAY_SAMPLING_REFERENCE (2048),
 # LENSRAY_SAMPLING_FIRST_SEED (31000) and LENSRAY_SAMPLING_GENERATED (40):
-# the generated block (a fresh block: seeds never rendered before).
+# the generated block (its references stay cached from one run to the next).
 # References are rendered once (about a minute a scene at 320x240 on 2
 # cores) and cached in target/converged/.
 set -euo pipefail

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The board table of BENCHMARKS.md ("Boards"), measured under QEMU with
-# -icount shift=0 (instructions, not cycles):
+# Every QEMU board's Program 1 figures beside its parse-on-device build (for
+# flash and stack), measured under QEMU with -icount shift=0 (instructions,
+# not cycles); BENCHMARKS.md has the baked builds alone (scripts/bench.sh):
 #   bash scripts/board-table.sh [OUT]     (OUT: a Markdown file; default stdout)
 # For each board: Program 1 at 160x120 as a pinhole (radius 0) and with 16
 # lens samples, Q16.16 and f32, from the scene baked at build time; the same

@@ -1,5 +1,5 @@
 //! Lens sampling against converged references: the adaptive sampler's
-//! floors (issue 53) as distributions, and PSNR against mean rays a pixel.
+//! floors as distributions, and PSNR against mean rays a pixel.
 //!
 //! ```sh
 //! cargo bench -p lensray-host --bench sampling

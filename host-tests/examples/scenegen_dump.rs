@@ -1,13 +1,18 @@
 //! Writes generated scenes to files: `scenegen_dump DIR pinhole|lens SEED...`
-//! (how host-tests/corpus/sweep-regressions/ was filled from a sweep's failures).
+//! writes `DIR/seed-SEED-pinhole.scene` (or `-lens`) for each seed, the
+//! scene the sweep renders for it: how a seed a sweep reports under a floor
+//! joins `host-tests/corpus/sweep-regressions/`.
 use lensray_testkit::scenegen::Camera;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let camera = if args[1] == "lens" {
-        Camera::Lens
-    } else {
-        Camera::Pinhole
+    let camera = match args.get(1).map(String::as_str) {
+        Some("pinhole") => Camera::Pinhole,
+        Some("lens") => Camera::Lens,
+        _ => {
+            eprintln!("usage: scenegen_dump DIR pinhole|lens SEED...");
+            std::process::exit(2);
+        }
     };
     for seed in args[2..].iter().filter_map(|s| s.parse::<u64>().ok()) {
         let path = format!("{}/seed-{seed}-{}.scene", args[0], args[1]);
