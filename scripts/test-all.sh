@@ -7,7 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-step() { printf '\n==> %s\n' "$*"; }
+# Each step prints the time since the script started (bash's SECONDS).
+step() { printf '\n==> [%d:%02d] %s\n' $((SECONDS / 60)) $((SECONDS % 60)) "$*"; }
 
 # A clean clone's build took 7 GB with incremental caches and full debug info,
 # and CI once ran out of disk on it: neither helps a one-off run.
@@ -41,11 +42,24 @@ cargo fmt --all --check
 cargo clippy --workspace --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc -p lensray --no-deps
 
-step "host tests (the library's unit tests and doctests, the test kit's, the host's)"
-cargo test --workspace -- --skip fuzz_parser_and_renderer
+step "host tests (the library's unit tests and doctests, the test kit's, the host's): a plain cargo test"
+cargo test --workspace
+
+step "host tests' campaigns: the slow ones a plain cargo test leaves out (#[ignore = \"campaign: ...\"])"
+# Found by their marker, so a new campaign cannot be left out; the fuzz test runs next, timed.
+if grep -rln 'ignore = "campaign' src host-tests/src host-tests/testkit; then
+  echo "campaign tests are run from host-tests/tests/ only: move the ones above there" >&2
+  exit 1
+fi
+campaigns=()
+for f in $(grep -l 'ignore = "campaign' host-tests/tests/*.rs); do
+  name=$(basename "$f" .rs)
+  if [ "$name" != fuzz ]; then campaigns+=(--test "$name"); fi
+done
+cargo test -p lensray-host "${campaigns[@]}" -- --ignored
 
 step "fuzz: parser and renderer together, a minute (LENSRAY_FUZZ_SECS)"
-LENSRAY_FUZZ_SECS=60 cargo test -p lensray-host --test fuzz fuzz_parser_and_renderer -- --nocapture
+LENSRAY_FUZZ_SECS=60 cargo test -p lensray-host --test fuzz fuzz_parser_and_renderer -- --ignored --nocapture
 
 step "fuzz/ (cargo fuzz's crate) resolves from its lock file (compiling libFuzzer's C++ is left to cargo fuzz)"
 (cd fuzz && cargo metadata --locked --format-version 1 >/dev/null)
