@@ -114,6 +114,13 @@ const DEFAULT_TIMEOUT: u32 = 3600;
 /// sifive-e (RV32IMAC, no FPU); pico builds firmware/pico and runs it under rp2040js (Node) with a model of its ST7789 panel,
 /// writes what the panel shows (equal to `render --panel rgb565`) and prints cycles a pixel and
 /// the frame's seconds at 125 MHz.
+///
+/// Needs a checkout of lensray's repository (the firmware's sources: its firmware/ directory, found
+/// from the working directory upward, else where this lensray was built from, or given by
+/// LENSRAY_FIRMWARE_DIR), the board's Rust target (rustup target add), and its emulator:
+/// qemu-system-arm, qemu-system-riscv32 for sifive-e, or Node.js and `npm ci` in firmware/pico/emu
+/// for pico. Whatever is missing is named, with the command that installs it, before anything is
+/// built.
 #[derive(Args, Debug)]
 pub(crate) struct EmulateArgs {
     /// The scene file (rendered as it is: put `adaptive on` in it for an adaptive render)
