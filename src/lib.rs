@@ -19,8 +19,8 @@
 //!   a [`ParseError`] naming the line, never a panic.
 //! * No entry point panics, whatever the input, scene or target size: the
 //!   parser, [`render()`], [`render_with`] and [`Renderer`] document
-//!   `# Panics: Never`, and the host tests fuzz them and sweep target sizes
-//!   (README, "Robustness").
+//!   `# Panics: Never`, and the repository's host tests fuzz them and sweep
+//!   target sizes.
 //!
 //! ## Rendering into a display
 //!

@@ -1,15 +1,16 @@
 //! The fuzzer as a test: parser and renderer together, any bytes in.
 //!
 //! `fuzz_parser_and_renderer` checks `LENSRAY_FUZZ_INPUTS` inputs (default
-//! 20,000, a few seconds: part of a plain `cargo test`), or runs for
-//! `LENSRAY_FUZZ_SECS` seconds when that is set (the test command runs it for
-//! 60), from seed `LENSRAY_FUZZ_SEED` (default fixed, so a failure
-//! reproduces). Inputs that break the property are written to
-//! `target/fuzz-crashes/` and fail the test; each one found is then kept in
+//! 20,000, about a minute on two cores), or runs for `LENSRAY_FUZZ_SECS`
+//! seconds when that is set (`bash scripts/campaigns.sh` runs it for 60),
+//! from seed `LENSRAY_FUZZ_SEED` (default fixed, so a failure reproduces). It
+//! is a campaign, left out of a plain `cargo test`: run it with `--ignored`.
+//! Inputs that break the property are written to `target/fuzz-crashes/` and
+//! fail the test; each one found is then kept in
 //! `host-tests/corpus/regressions/` with the outcome it must have now, which
 //! `every_past_crash_stays_fixed` replays on every run.
 //!
-//! A campaign: `LENSRAY_FUZZ_SECS=3600 LENSRAY_FUZZ_SEED=7 cargo test -p lensray-host --test fuzz -- --nocapture`.
+//! An hour: `LENSRAY_FUZZ_SECS=3600 LENSRAY_FUZZ_SEED=7 cargo test -p lensray-host --test fuzz -- --ignored --nocapture`.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -20,7 +21,7 @@ use std::time::{Duration, Instant};
 use lensray::{Scene, I16F16};
 use lensray_testkit::fuzz::{check_input, escape, kind_name, seed_corpus, Fuzzer, Outcome};
 
-/// Inputs of the run in a plain `cargo test` (without `LENSRAY_FUZZ_SECS`).
+/// Inputs of a run without `LENSRAY_FUZZ_SECS`.
 const DEFAULT_INPUTS: u64 = 20_000;
 
 /// Error kinds every run of at least [`DEFAULT_INPUTS`] inputs must reach:
@@ -78,6 +79,7 @@ fn watchdog(progress: Arc<AtomicU64>, current: Arc<Mutex<Vec<u8>>>, limit: Durat
 }
 
 #[test]
+#[ignore = "campaign: bash scripts/campaigns.sh"]
 fn fuzz_parser_and_renderer() {
     let secs = env_u64("LENSRAY_FUZZ_SECS");
     let max_inputs = env_u64("LENSRAY_FUZZ_INPUTS").unwrap_or(if secs.is_some() { u64::MAX } else { DEFAULT_INPUTS });

@@ -2,10 +2,13 @@
 //! QEMU, writes the image the board rendered and says what it cost.
 //!
 //! The scene is checked on the host first, so a bad scene fails with the same
-//! `FILE:LINE: message` as `render`, before anything is built. The firmware
-//! crate is `../firmware` from this crate (or `$LENSRAY_FIRMWARE_DIR`); its
-//! build.rs reads the scene, size, samples and number type from `LENSRAY_*`
-//! variables, which this command sets.
+//! `FILE:LINE: message` as `render`, before anything is built. The firmware is
+//! built from a checkout of lensray's repository ([`firmware_dir`]: its
+//! `firmware/` directory); its build.rs reads the scene, size, samples and
+//! number type from `LENSRAY_*` variables, which this command sets. What the
+//! run needs besides (the board's Rust target, its emulator, the Pico's npm
+//! package) is checked before the build, and whatever is missing is named
+//! with the command that installs it ([`missing_tools`]).
 
 use std::collections::BTreeMap;
 use std::io::Read;
@@ -111,6 +114,13 @@ const DEFAULT_TIMEOUT: u32 = 3600;
 /// sifive-e (RV32IMAC, no FPU); pico builds firmware/pico and runs it under rp2040js (Node) with a model of its ST7789 panel,
 /// writes what the panel shows (equal to `render --panel rgb565`) and prints cycles a pixel and
 /// the frame's seconds at 125 MHz.
+///
+/// Needs a checkout of lensray's repository (the firmware's sources: its firmware/ directory, found
+/// from the working directory upward, else where this lensray was built from, or given by
+/// LENSRAY_FIRMWARE_DIR), the board's Rust target (rustup target add), and its emulator:
+/// qemu-system-arm, qemu-system-riscv32 for sifive-e, or Node.js and `npm ci` in firmware/pico/emu
+/// for pico. Whatever is missing is named, with the command that installs it, before anything is
+/// built.
 #[derive(Args, Debug)]
 pub(crate) struct EmulateArgs {
     /// The scene file (rendered as it is: put `adaptive on` in it for an adaptive render)
@@ -169,21 +179,12 @@ pub(crate) fn run(o: EmulateArgs) -> Result<(), Fail> {
         return Err(Fail(format!("{}: is a directory", out.display())));
     }
     let scene_abs = std::fs::canonicalize(scene_path).map_err(|e| Fail(format!("{}: {e}", scene_path.display())))?;
-    if Command::new(board.qemu_program).arg("--version").output().is_err() {
-        let package = if board.qemu_program == "qemu-system-arm" {
-            "qemu-system-arm"
-        } else {
-            "qemu-system-misc"
-        };
-        return Err(Fail(format!(
-            "{} is missing: install it (Debian: sudo apt-get install {package}), \
-             or run bash scripts/test-all.sh, which does",
-            board.qemu_program
-        )));
-    }
+    let firmware = firmware_dir()?;
+    missing_tools(&firmware, board.target, &[Tool::Qemu(board.qemu_program)])?;
 
     let work = WorkDir::new()?;
     let build = Build {
+        firmware: &firmware,
         board,
         scene: &scene_abs,
         width,
@@ -263,6 +264,7 @@ impl Drop for WorkDir {
 
 /// What to build the firmware with.
 struct Build<'a> {
+    firmware: &'a Path,
     board: &'a Board,
     scene: &'a Path,
     width: u32,
@@ -277,8 +279,8 @@ impl Build<'_> {
     /// Builds the firmware and copies its ELF into `dir`, under a lock: runs
     /// of this command in parallel share one target directory.
     fn run(&self, dir: &Path) -> Result<PathBuf, Fail> {
-        let firmware = firmware_dir()?;
-        let (target_dir, lock) = lock_target_dir(&firmware)?;
+        let firmware = self.firmware;
+        let (target_dir, lock) = lock_target_dir(firmware)?;
 
         let mut features = if self.soft_sqrt {
             self.board.features.replace(",hw-sqrt", "")
@@ -288,9 +290,14 @@ impl Build<'_> {
         if self.parse_on_device {
             features += ",parse-on-device";
         }
-        eprintln!("building the firmware for {} ({})", self.board.name, self.board.target);
+        eprintln!(
+            "building the firmware for {} ({}) in {}",
+            self.board.name,
+            self.board.target,
+            firmware.display()
+        );
         let mut cmd = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
-        cmd.current_dir(&firmware)
+        cmd.current_dir(firmware)
             .args([
                 "build",
                 "--profile",
@@ -336,7 +343,6 @@ impl Build<'_> {
     }
 }
 
-/// The firmware crate: `$LENSRAY_FIRMWARE_DIR`, else `firmware/` of this source tree.
 /// The firmware's target directory, created where missing, and a lock on it
 /// held until the file is dropped: runs in parallel build one at a time.
 pub(crate) fn lock_target_dir(firmware: &Path) -> Result<(PathBuf, std::fs::File), Fail> {
@@ -349,18 +355,136 @@ pub(crate) fn lock_target_dir(firmware: &Path) -> Result<(PathBuf, std::fs::File
     Ok((target_dir, lock))
 }
 
+/// The firmware crate (the `firmware/` directory of a checkout of lensray's
+/// repository), the first of: `$LENSRAY_FIRMWARE_DIR`; the `firmware/` of
+/// the working directory or of the nearest directory above it that has one
+/// (running inside a checkout); the `firmware/` of the checkout this program
+/// was built from, while it is still there (`cargo install --path host-tests`
+/// builds from one).
 pub(crate) fn firmware_dir() -> Result<PathBuf, Fail> {
-    let dir = match std::env::var_os("LENSRAY_FIRMWARE_DIR") {
-        Some(d) => PathBuf::from(d),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../firmware"),
-    };
-    if !dir.join("Cargo.toml").is_file() {
+    if let Some(dir) = std::env::var_os("LENSRAY_FIRMWARE_DIR") {
+        let dir = PathBuf::from(dir);
+        if is_firmware(&dir) {
+            return Ok(dir);
+        }
         return Err(Fail(format!(
-            "{}: the firmware crate is not there; set LENSRAY_FIRMWARE_DIR to lensray's firmware/ directory",
+            "LENSRAY_FIRMWARE_DIR={}: not lensray's firmware/ directory (it has no Cargo.toml of lensray-firmware); \
+             point it at the firmware/ directory of a checkout of lensray's repository",
             dir.display()
         )));
     }
-    Ok(dir)
+    let cwd = std::env::current_dir().ok();
+    if let Some(dir) = cwd
+        .iter()
+        .flat_map(|c| c.ancestors())
+        .map(|d| d.join("firmware"))
+        .find(|d| is_firmware(d))
+    {
+        return Ok(dir);
+    }
+    let built = Path::new(env!("CARGO_MANIFEST_DIR")).join("../firmware");
+    if is_firmware(&built) {
+        return Ok(std::fs::canonicalize(&built).unwrap_or(built));
+    }
+    Err(Fail(format!(
+        "emulate builds the firmware from a checkout of lensray's repository, and there is none here \
+         ({} and the directories above it have no firmware/ of lensray's) nor where this lensray was built \
+         ({}): run it inside a checkout, or set LENSRAY_FIRMWARE_DIR to a checkout's firmware/ directory",
+        cwd.as_deref()
+            .map_or_else(|| "the working directory".into(), |c| c.display().to_string()),
+        built.display()
+    )))
+}
+
+/// Whether `dir` holds the firmware crate.
+fn is_firmware(dir: &Path) -> bool {
+    std::fs::read_to_string(dir.join("Cargo.toml"))
+        .is_ok_and(|t| t.lines().any(|l| l.replace(' ', "") == "name=\"lensray-firmware\""))
+}
+
+/// What a board's run needs besides Cargo and the Rust target.
+pub(crate) enum Tool<'a> {
+    /// A QEMU program.
+    Qemu(&'a str),
+    /// Node.js, and rp2040js installed by npm in this directory (the Pico's emulator).
+    Rp2040js(&'a Path),
+}
+
+/// Checks what building the firmware for `target` and running it need: the
+/// Rust target (as the toolchain building in `firmware` sees it) and each of
+/// `tools`. An error lists everything missing, each with the command that
+/// installs it.
+pub(crate) fn missing_tools(firmware: &Path, target: &str, tools: &[Tool]) -> Result<(), Fail> {
+    let mut missing = Vec::new();
+    let rustc = std::env::var_os("RUSTC").unwrap_or_else(|| "rustc".into());
+    let sysroot = Command::new(&rustc)
+        .args(["--print", "sysroot"])
+        .current_dir(firmware)
+        .stdin(Stdio::null())
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()));
+    match sysroot {
+        None => missing.push("rustc does not run: install Rust (https://rustup.rs)".to_string()),
+        Some(root) if !root.join("lib/rustlib").join(target).is_dir() => missing.push(format!(
+            "the Rust target {target} is not installed: rustup target add {target}"
+        )),
+        Some(_) => {}
+    }
+    for tool in tools {
+        match tool {
+            Tool::Qemu(program) => {
+                if !runs(program) {
+                    // Debian puts qemu-system-riscv32 in qemu-system-misc.
+                    let package = if *program == "qemu-system-arm" {
+                        "qemu-system-arm"
+                    } else {
+                        "qemu-system-misc"
+                    };
+                    missing.push(format!(
+                        "{program} (QEMU) is missing: sudo apt-get install {package} on Debian or Ubuntu, \
+                         brew install qemu on macOS"
+                    ));
+                }
+            }
+            Tool::Rp2040js(emu) => {
+                if !runs("node") {
+                    missing.push(
+                        "node (Node.js 18 or later, for the Pico's emulator) is missing: \
+                         sudo apt-get install nodejs npm on Debian or Ubuntu, brew install node on macOS"
+                            .to_string(),
+                    );
+                }
+                if !emu.join("node_modules/rp2040js/package.json").is_file() {
+                    missing.push(format!(
+                        "rp2040js (the Pico's emulator, an npm package) is not installed: cd {} && npm ci",
+                        emu.display()
+                    ));
+                }
+            }
+        }
+    }
+    if missing.is_empty() {
+        Ok(())
+    } else {
+        Err(Fail(format!(
+            "building and running the firmware of {} needs what is missing here: {}",
+            firmware.display(),
+            missing.join("; ")
+        )))
+    }
+}
+
+/// Whether `program --version` runs.
+fn runs(program: &str) -> bool {
+    Command::new(program)
+        .arg("--version")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok()
 }
 
 /// Runs `cmd` with its output piped, killed after `timeout`: its exit status

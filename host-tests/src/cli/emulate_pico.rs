@@ -16,7 +16,9 @@ use lensray::{Renderer, Scalar, I16F16};
 use lensray_host::panel::image_from_rgb565;
 use lensray_host::{encode, load_scene, write_atomic, Format};
 
-use crate::cli::emulate::{firmware_dir, lock_target_dir, run_bounded, EmulateArgs, WorkDir, DEFAULT_WIDTH};
+use crate::cli::emulate::{
+    firmware_dir, lock_target_dir, missing_tools, run_bounded, EmulateArgs, Tool, WorkDir, DEFAULT_WIDTH,
+};
 use crate::cli::opts::image_size;
 use crate::Fail;
 
@@ -57,17 +59,7 @@ pub(crate) fn run(o: &EmulateArgs, scene_path: &Path, soft_sqrt: bool, timeout: 
     let scene_abs = std::fs::canonicalize(scene_path).map_err(|e| Fail(format!("{}: {e}", scene_path.display())))?;
     let firmware = firmware_dir()?;
     let emu = firmware.join("pico/emu");
-    if Command::new("node").arg("--version").output().is_err() {
-        return Err(Fail(
-            "node is missing: install Node.js 20 or later (Debian: apt-get install nodejs npm)".into(),
-        ));
-    }
-    if !emu.join("node_modules/rp2040js").is_dir() {
-        return Err(Fail(format!(
-            "rp2040js is not installed: run `npm ci` in {} (bash scripts/test-all.sh does)",
-            emu.display()
-        )));
-    }
+    missing_tools(&firmware, TARGET, &[Tool::Rp2040js(&emu)])?;
 
     let work = WorkDir::new()?;
     let elf = build(&firmware, &work.0, &scene_abs, width, height, rays)?;
@@ -137,7 +129,7 @@ pub(crate) fn run(o: &EmulateArgs, scene_path: &Path, soft_sqrt: bool, timeout: 
 fn build(firmware: &Path, dir: &Path, scene: &Path, width: u32, height: u32, rays: u32) -> Result<PathBuf, Fail> {
     // Runs in parallel share the target directory: one build at a time.
     let (target_dir, lock) = lock_target_dir(firmware)?;
-    eprintln!("building the firmware for pico ({TARGET})");
+    eprintln!("building the firmware for pico ({TARGET}) in {}", firmware.display());
     let built = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
         .current_dir(firmware)
         .args(["build", "--release", "-p", "lensray-pico", "--target", TARGET])
