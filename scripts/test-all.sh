@@ -2,7 +2,7 @@
 # lensray's one test command: installs what is missing, then runs every check.
 #   bash scripts/test-all.sh
 # Steps: rustup targets and components, Debian's qemu-system-arm, format and
-# lint, the fast host tests, the no_std library for three Cortex-M targets, the
+# lint, the host tests, 20 s of fuzzing, the no_std library for three Cortex-M targets, the
 # firmware under QEMU and rp2040js, and the web page in a browser.
 #
 # What runs where, and what it costs on 2 cores (measured from a clean build,
@@ -10,16 +10,17 @@
 #   format and lint (fmt, clippy, rustdoc)                         1 min
 #   cargo test --workspace, a plain `cargo test`: the library's unit
 #     tests and doctests, the test kit's, the fast host tests      3.5 min build, 0.5 min run
+#   the slow host tests (#[ignore = "slow: ..."]: every scene in
+#     Q16.16 against f32, generated scenes and the sweep's corpus
+#     against their floors, renderer arguments at their extremes)  1 min
+#   20 s of fuzzing the parser and renderer together               0.5 min
 #   the no_std library for thumbv6m, thumbv7m, thumbv7em            1.5 min
 #   scripts/firmware-tests.sh: lint, builds, QEMU and the Pico      7 min
 #   scripts/web-tests.sh: wasm, the page's build, browser tests     3 min
-#   in all                                                          about 16 min
-# Not run here, to stay within 20 minutes: the campaigns, `bash
-# scripts/campaigns.sh` (the host tests marked #[ignore = "campaign: ..."]:
-# every scene in Q16.16 against f32, generated scenes and the sweep's
-# corpus against their floors, renderer arguments at their extremes; and a
-# minute of fuzzing), about 2 minutes more; an hour of fuzzing with
-# LENSRAY_FUZZ_SECS=3600, and the exhaustive 32-bit checks with --exhaustive.
+#   in all                                                          about 17 min
+# Not run here: `bash scripts/campaigns.sh` (fuzzing for ten minutes, an
+# hour with LENSRAY_FUZZ_SECS=3600; the exhaustive 32-bit checks with
+# --exhaustive) and the benchmarks (scripts/bench.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -60,6 +61,19 @@ RUSTDOCFLAGS="-D warnings" cargo doc -p lensray --no-deps
 
 step "host tests (the library's unit tests and doctests, the test kit's, the host's): a plain cargo test"
 cargo test --workspace
+
+step "host tests too slow for a plain cargo test (#[ignore = \"slow: ...\"])"
+# Found by their marker, so a new slow test cannot be left out.
+if grep -rln 'ignore = "slow' src host-tests/src host-tests/testkit; then
+  echo "slow tests are run from host-tests/tests/ only: move the ones above there" >&2
+  exit 1
+fi
+slow=()
+for f in $(grep -l 'ignore = "slow' host-tests/tests/*.rs); do slow+=(--test "$(basename "$f" .rs)"); done
+cargo test -p lensray-host "${slow[@]}" -- --ignored
+
+step "fuzz: parser and renderer together, 20 s (scripts/campaigns.sh runs it longer)"
+LENSRAY_FUZZ_SECS=20 cargo test -p lensray-host --test fuzz fuzz_parser_and_renderer -- --ignored --nocapture
 
 step "fuzz/ (cargo fuzz's crate) resolves from its lock file (compiling libFuzzer's C++ is left to cargo fuzz)"
 (cd fuzz && cargo metadata --locked --format-version 1 >/dev/null)

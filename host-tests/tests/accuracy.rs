@@ -61,7 +61,7 @@ const PSNR_BEFORE_SPEED_WORK: [(&str, f64); 10] = [
 ];
 
 #[test]
-#[ignore = "campaign: bash scripts/campaigns.sh"]
+#[ignore = "slow: scripts/test-all.sh runs it"]
 fn every_scene_renders_alike_in_q16_16_and_f32() {
     let mut names: Vec<String> = std::fs::read_dir(scenes_dir())
         .expect("scenes/")

@@ -1,4 +1,4 @@
-//! The photographer's camera (issue 7), checked on rendered pictures: bokeh
+//! The photographer's camera, checked on rendered pictures: bokeh
 //! shaped by aperture blades, autofocus on each of Program 1's solids, and
 //! progressive passes that end in exactly the plain render.
 

@@ -2,7 +2,7 @@
 //! against float64 (`lensray_host::reference64`) for the very ray Q16.16
 //! holds, on rays whose origin sits a few Q16.16 steps from where f64's
 //! square flips (small, turned, stretched objects: an object-space error
-//! grows with the inverse scale). See docs/accuracy.md, fix 16.
+//! grows with the inverse scale). See docs/fixed-point.md, section 6.
 
 mod common;
 use common::{random_placement, rng, stored_rows_delta, SteppedRay};
@@ -136,7 +136,7 @@ fn checker_border_decisions_agree_with_f64() {
             was_beyond > 50,
             "{shape:?}: {was_beyond} of {was} beyond the rows' error without the retake"
         );
-        // Measured (docs/accuracy.md, fix 16): with the rounded point alone
+        // Measured (docs/fixed-point.md, section 6): with the rounded point alone
         // 102 (plane) to 247 (sphere) went the other way; with the retake 2
         // (sphere), 1 (cube), 0 (the others), each 2e-9 to 9e-9 from f64's
         // border, closer than the object's stored rows (30 bits an entry)

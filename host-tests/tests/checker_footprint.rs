@@ -1,4 +1,4 @@
-//! Lens rays' box-filtered checkers (issue 14): a ray standing for one
+//! Lens rays' box-filtered checkers: a ray standing for one
 //! stratum of the lens averages the checker over its footprint
 //! (`Object::checker_filtered`). The average is the exact mean of the
 //! darkening over the footprint's box, in both number types; a footprint

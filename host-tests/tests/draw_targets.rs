@@ -134,7 +134,7 @@ fn targets_placed_anywhere_in_the_plane() {
 }
 
 #[test]
-#[ignore = "campaign: bash scripts/campaigns.sh"]
+#[ignore = "slow: scripts/test-all.sh runs it"]
 fn renderer_arguments_at_their_extremes() {
     let scene = extreme::<I16F16>();
     for (w, h) in [(0, 0), (0, u32::MAX), (u32::MAX, 0), (u32::MAX, u32::MAX), (1, 1)] {

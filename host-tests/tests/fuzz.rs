@@ -2,8 +2,8 @@
 //!
 //! `fuzz_parser_and_renderer` checks `LENSRAY_FUZZ_INPUTS` inputs (default
 //! 20,000, about a minute on two cores), or runs for `LENSRAY_FUZZ_SECS`
-//! seconds when that is set (`bash scripts/campaigns.sh` runs it for 60),
-//! from seed `LENSRAY_FUZZ_SEED` (default fixed, so a failure reproduces). It
+//! seconds when that is set (`bash scripts/test-all.sh` runs it for 20,
+//! `bash scripts/campaigns.sh` for 600), from seed `LENSRAY_FUZZ_SEED` (default fixed, so a failure reproduces). It
 //! is a campaign, left out of a plain `cargo test`: run it with `--ignored`.
 //! Inputs that break the property are written to `target/fuzz-crashes/` and
 //! fail the test; each one found is then kept in
@@ -79,7 +79,7 @@ fn watchdog(progress: Arc<AtomicU64>, current: Arc<Mutex<Vec<u8>>>, limit: Durat
 }
 
 #[test]
-#[ignore = "campaign: bash scripts/campaigns.sh"]
+#[ignore = "campaign: scripts/campaigns.sh (20 s of it in scripts/test-all.sh)"]
 fn fuzz_parser_and_renderer() {
     let secs = env_u64("LENSRAY_FUZZ_SECS");
     let max_inputs = env_u64("LENSRAY_FUZZ_INPUTS").unwrap_or(if secs.is_some() { u64::MAX } else { DEFAULT_INPUTS });

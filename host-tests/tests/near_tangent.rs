@@ -2,7 +2,7 @@
 //! against float64 (`lensray_host::reference64`) for the very ray Q16.16
 //! holds, on rays whose origin sits a few Q16.16 steps from where the
 //! decision flips (small, turned, stretched objects: an object-space error
-//! grows with the inverse scale). See docs/accuracy.md, fix 10.
+//! grows with the inverse scale). See docs/fixed-point.md, section 4.
 
 mod common;
 use common::{random_placement, rng, SteppedRay};
@@ -74,8 +74,8 @@ fn near_tangent_decisions_agree_with_f64() {
         // units) from the flip. Measured on these 400 silhouettes a shape:
         // without the recheck 9.4 % (sphere) to 13.1 % (cube) went the other
         // way; with the exact decisions none, for every shape (the cylinder's
-        // and the cone's from fix 11; 4.6 % and 7.7 % with their second pass
-        // rounded to 2^-17: docs/accuracy.md, fixes 10 and 11).
+        // and the cone's with their second pass exact; 4.6 % and 7.7 % with it
+        // rounded to 2^-17: docs/fixed-point.md, section 4).
         assert_eq!(wrong, 0, "{shape:?}: {wrong} of {rays} unlike f64");
     }
 }

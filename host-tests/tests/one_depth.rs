@@ -4,7 +4,7 @@
 //! steps from where the two surfaces cross (the nearer of the two flips
 //! there). Random pairs (the plane included), each small, turned and
 //! stretched, the second moved so that it passes through a point of the
-//! first's surface. See docs/accuracy.md, fix 17.
+//! first's surface. See docs/fixed-point.md, section 5.
 
 mod common;
 use common::{object_text, rng, stored_rows_delta, surface_point, SteppedRay, SHAPES};

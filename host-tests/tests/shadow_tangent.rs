@@ -5,8 +5,8 @@
 //! the light, flips from grazing a second object to missing it. Random
 //! pairs (the lit one any shape, the plane included), each small, turned
 //! and stretched; the light on Q16.16's grid (a light rounded to it is
-//! another error, docs/accuracy.md "What remains"). See docs/accuracy.md,
-//! fix 18.
+//! another error, docs/accuracy.md "What remains"). See docs/fixed-point.md,
+//! section 7.
 
 mod common;
 use common::{object_text, rng, surface_point, unit, SHAPES};
@@ -323,24 +323,24 @@ fn check(c: &Counts, min_rays: usize) {
     );
 }
 
-/// Measured on these 1,500 pairs: see docs/accuracy.md, fix 18.
+/// Measured on these 1,500 pairs: see docs/fixed-point.md, section 7.
 #[test]
 fn shadow_rays_near_a_tangent_decide_as_f64_does() {
     check(&disagreements(1500, 0x5AAD_0E7A_16E7_0001, false), 2000);
 }
 
 /// 600 pairs, the blocker a cube met nearly along a face (slopes 1e-3 to
-/// 1/32): see docs/accuracy.md, fix 18, "A cube's face crossed slowly".
+/// 1/32): see docs/fixed-point.md, section 7.
 #[test]
 fn shadow_rays_along_a_cube_face_decide_as_f64_does() {
     check(&disagreements(600, 0x5AAD_0E7A_16E7_0002, true), 1000);
 }
 
-/// A blocker's surface near the light (docs/accuracy.md, fix 20): over
+/// A blocker's surface near the light (docs/fixed-point.md, section 7): over
 /// `cases` random pairs, the light `delta` (1e-6 to 1e-3) beyond or before
 /// where the line from the lit point to the light enters the blocker, on
 /// Q16.16's grid; rays, and Q16.16's light unlike f64's, by how far from
-/// the segment's end (the light itself, since fix 20) f64's shadow ray
+/// the segment's end (the light itself) f64's shadow ray
 /// meets the blocker: under 1e-5, 1e-4, above.
 fn near_the_light(cases: usize) -> (usize, [usize; 3], [usize; 3]) {
     let mut r = rng(0x5AAD_0E7A_16E7_0003);
@@ -404,9 +404,8 @@ fn near_the_light(cases: usize) -> (usize, [usize; 3], [usize; 3]) {
 /// is met at least 1e-4 from the light (at most 1 in 200 unlike f64) and
 /// mostly from 1e-5 to 1e-4 (at most 1 in 4); closer, Q16.16's own t at
 /// the light's end (2⁻¹⁶ of 5 to 55 units) decides: printed, not asserted.
-/// Before fix 20 the segment ended at `light + n ε`, not at the light, and
-/// Q16.16 (f32 and f64 as well) decided these rays by that end: see
-/// docs/accuracy.md, fix 20.
+/// The segment ends at the light itself, not at `light + n ε`, in every
+/// type: docs/fixed-point.md, section 7.
 #[test]
 fn shadow_rays_ending_near_a_blocker_decide_as_f64_does() {
     let (rays, per, wrong) = near_the_light(3000);

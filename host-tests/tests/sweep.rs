@@ -4,11 +4,11 @@
 use lensray_host::sweep::{measure, run, Summary};
 use lensray_testkit::scenegen::Camera;
 
-/// Floors of issue 12: PSNR (dB) and share of pixels within 2 levels.
+/// Floors: PSNR (dB) and share of pixels within 2 levels.
 const MIN_PSNR: f64 = 40.0;
 const MIN_WITHIN2: f64 = 0.995;
-/// Largest row or column mean error in levels: the issue's floor (seed 59's
-/// silhouette pixel, 2.13 before, is decided exactly since fix 10).
+/// Largest row or column mean error in levels (a silhouette's close
+/// decisions are exact: docs/fixed-point.md, section 4).
 const MAX_LINE_160: f64 = 2.0;
 
 /// PSNR floor at 64x48: one pixel of full contrast in one channel alone is
@@ -17,7 +17,7 @@ const MAX_LINE_160: f64 = 2.0;
 const MIN_PSNR_64: f64 = 35.0;
 
 #[test]
-#[ignore = "campaign: bash scripts/campaigns.sh"]
+#[ignore = "slow: scripts/test-all.sh runs it"]
 fn small_generated_scenes_meet_the_floors() {
     // 150 seeds of each camera at 64x48 (a single pixel weighs 6 times what it
     // does at 160x120): PSNR, the share within 2 levels and the median.
@@ -69,7 +69,7 @@ fn under(files: &[std::path::PathBuf], psnr: f64, within2: f64, line: f64) -> Ve
 }
 
 #[test]
-#[ignore = "campaign: bash scripts/campaigns.sh"]
+#[ignore = "slow: scripts/test-all.sh runs it"]
 fn every_regression_scene_meets_the_floors() {
     let files = corpus("sweep-regressions");
     assert!(files.len() >= 68, "the corpus lost scenes");
@@ -102,7 +102,7 @@ fn open_regression_scenes_get_no_worse() {
     assert!(bad.is_empty(), "worse than when filed: {bad:?}");
 }
 
-/// f32's horizon (docs/accuracy.md, fix 15): on the four scenes whose floor
+/// f32's horizon (docs/fixed-point.md, "The f32 reference's own care"): on the four scenes whose floor
 /// row meets the horizon 5,700 to 127,000 away at slopes of 7e-5 to 2e-3,
 /// f32's pinhole render against float64 (`reference64`): 42, 64, 16 and 30
 /// pixels more than 2 levels off before the fix (the whole row on the other
