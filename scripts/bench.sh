@@ -290,6 +290,9 @@ step "writing $out"
   echo "peripherals), from the LED's rise to its fall: the progressive passes and the"
   echo "SPI transfers to the panel model included. rp2040js runs one core; the two-core"
   echo "figure replays the firmware's band protocol on the bands' measured cycles."
+  echo "It leaves out what the cores contend for: the flash behind the XIP cache, the"
+  echo "SIO FIFO and spinlock between the bands, the SPI bus to the panel; a real"
+  echo "board's two-core frame is this figure or slower."
   echo
   echo "## Where the Cortex-M0's instructions go (Program 1, Q16.16)"
   echo
