@@ -17,7 +17,7 @@
 #   the no_std library for thumbv6m, thumbv7m, thumbv7em            1.5 min
 #   scripts/firmware-tests.sh: lint, builds, QEMU and the Pico      7 min
 #   scripts/web-tests.sh: wasm, the page's build, browser tests     3 min
-#   in all                                                          about 17 min
+#   in all                                                          11 to 17 min (10 min 21 s measured)
 # Not run here: `bash scripts/campaigns.sh` (fuzzing for ten minutes, an
 # hour with LENSRAY_FUZZ_SECS=3600; the exhaustive 32-bit checks with
 # --exhaustive) and the benchmarks (scripts/bench.sh).
