@@ -5,7 +5,8 @@ use crate::number::film::{FilmMapDesc, FixedFilmMap};
 use crate::number::q16::{sat32, shr_round, FixedDir, FixedRow};
 use crate::number::scalar::{BakeScalar, Kernels, Scalar};
 use crate::number::wide::{
-    bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i32_inline, mul_i64, mul_u32, mul_u64,
+    bits_u64, div_pow2_u32, div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i32_inline, mul_i64, mul_u32,
+    mul_u64,
 };
 use fixed::types::I16F16;
 
@@ -370,7 +371,7 @@ impl Kernels for I16F16 {
         }
         // One division for a Q2.46-ish reciprocal, then three exact-enough multiplies.
         // 0 < l < 2^31 fits the 32-bit divisor.
-        let recip = div_rem_u64_u32(1 << 46, l as u32).0 as i64;
+        let recip = div_pow2_u32(46, l as u32) as i64;
         let unit = v.map(|x| {
             let p = mul_i64(x.to_bits() as i64, recip);
             I16F16::from_bits(sat32(shr_round(p, 30)))
