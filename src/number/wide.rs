@@ -96,6 +96,10 @@ pub(crate) fn mul_u32_inline(a: u32, b: u32) -> u64 {
 #[inline(always)]
 #[cfg_attr(not(lensray_v6m), allow(dead_code))]
 pub(crate) fn mul_i64_halves(a: i64, b: i64) -> i64 {
+    // Both within an i32 (the usual case): signed halves, no signs to take off and put back.
+    if a as i32 as i64 == a && b as i32 as i64 == b {
+        return mul_i32_halves(a as i32, b as i32);
+    }
     let (ua, ub) = (a.unsigned_abs(), b.unsigned_abs());
     if (ua | ub) >> 32 == 0 {
         let p = mul_u32_halves(ua as u32, ub as u32) as i64;
@@ -830,6 +834,8 @@ mod tests {
                 assert_eq!(mul_u32_halves(a, b), a as u64 * b as u64, "{a} * {b}");
                 let (x, y) = (a as i32, b as i32);
                 assert_eq!(mul_i32_halves(x, y), x as i64 * y as i64, "{x} * {y}");
+                assert_eq!(mul_i64_halves(x as i64, y as i64), x as i64 * y as i64, "{x} * {y}");
+                assert_eq!(mul_i64_halves(a as i64, y as i64), a as i64 * y as i64, "{a} * {y}");
             }
         }
         let mut r = rng(7);
