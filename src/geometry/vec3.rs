@@ -83,6 +83,17 @@ impl<S: Scalar> Vec3<S> {
         Vec3::new(self.x.mul_inline(o.x), self.y.mul_inline(o.y), self.z.mul_inline(o.z))
     }
 
+    /// [`Vec3::hadamard`] by a light's colour: white (every component 1)
+    /// leaves `self` as it is, which is each type's product by 1, for free.
+    #[inline(always)]
+    pub fn tinted(self, light: Self) -> Self {
+        if light.x == S::ONE && light.y == S::ONE && light.z == S::ONE {
+            self
+        } else {
+            self.hadamard(light)
+        }
+    }
+
     /// Unit vector along `self` and the length of `self`; zero stays zero.
     #[inline]
     pub fn normalize_len(self) -> (Self, S) {
@@ -140,4 +151,46 @@ impl<S: Scalar> Mul<S> for Vec3<S> {
 
 impl<S: crate::bytes::Field> crate::bytes::Field for Vec3<S> {
     crate::bytes::baked_fields!(Vec3 { x, y, z });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fixed::types::I16F16;
+
+    /// A white light's `tinted` is the product by 1 it skips, bit for bit,
+    /// in both types and at the extremes.
+    #[test]
+    fn white_tint_is_the_product_by_one() {
+        let white = Vec3::new(I16F16::ONE, I16F16::ONE, I16F16::ONE);
+        for bits in [
+            i32::MIN,
+            i32::MIN + 1,
+            -65537,
+            -65536,
+            -1,
+            0,
+            1,
+            32768,
+            65535,
+            65536,
+            65537,
+            i32::MAX,
+        ] {
+            let v = Vec3::new(
+                I16F16::from_bits(bits),
+                I16F16::from_bits(!bits),
+                I16F16::from_bits(bits),
+            );
+            assert_eq!(v.tinted(white), v.hadamard(white), "{bits}");
+        }
+        let white = Vec3::new(1.0f32, 1.0, 1.0);
+        for x in [f32::MIN, -1.5, -0.0, 0.0, 1e-40, 0.3, 1.0, f32::MAX, f32::INFINITY] {
+            let v = Vec3::new(x, -x, x);
+            assert_eq!(
+                v.tinted(white).to_array().map(f32::to_bits),
+                v.hadamard(white).to_array().map(f32::to_bits)
+            );
+        }
+    }
 }

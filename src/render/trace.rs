@@ -192,7 +192,7 @@ impl<S: Scalar> Scene<S> {
         // inside, the ray crosses the object and the far wall counts.
         let own = (S::SHADOW_SKIPS_OWN_CONVEX && (outside || obj.shape == Shape::Plane)).then_some(i);
         let v = -d;
-        let mut colour = ka.hadamard(self.ambient);
+        let mut colour = ka.tinted(self.ambient);
         // Shadow rays leave from just above the surface, on the viewer's side.
         let p_shadow = if self.shadows { p + n * S::HIT_EPSILON } else { p };
         for light in &self.lights {
@@ -213,7 +213,7 @@ impl<S: Scalar> Scene<S> {
             let r_dot_v = r.dot_inline(v).max(S::ZERO);
             let diffuse = kd.scale(n_dot_l);
             let specular = m.ks.scale(r_dot_v.powf(m.shine));
-            colour = colour + (diffuse + specular).hadamard(light.intensity);
+            colour = colour + (diffuse + specular).tinted(light.intensity);
         }
         colour
     }
