@@ -6,7 +6,7 @@ use crate::number::q16::{sat32, shr_round, FixedDir, FixedRow};
 use crate::number::scalar::{BakeScalar, Kernels, Scalar};
 use crate::number::wide::{
     bits_u64, div_pow2_u32, div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i32_inline, mul_i64, mul_u32,
-    mul_u64,
+    mul_u64, sar64,
 };
 use fixed::types::I16F16;
 
@@ -312,9 +312,10 @@ impl Kernels for I16F16 {
     }
     #[inline]
     fn checker_cell(x: Self, side: Self, scale: Self) -> i64 {
-        // floor(x m / 2^(29 + b)), exactly: both factors below 2^31.
-        let b = 32 - side.to_bits().leading_zeros();
-        mul_i32(x.to_bits(), scale.to_bits()) >> (29 + b)
+        // floor(x m / 2^(29 + b)), exactly: both factors below 2^31. The
+        // count and the shift by words (each a runtime call on the M0).
+        let b = bits_u64(side.to_bits() as u32 as u64);
+        sar64(mul_i32(x.to_bits(), scale.to_bits()), 29 + b)
     }
     // In place (the side's bit count shared by the three axes: no CLZ on the M0).
     #[inline(always)]
