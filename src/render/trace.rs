@@ -212,8 +212,14 @@ impl<S: Scalar> Scene<S> {
             let r = n.scale(n_dot_l.add(n_dot_l)) - l;
             let r_dot_v = r.dot_inline(v).max(S::ZERO);
             let diffuse = kd.scale(n_dot_l);
-            let specular = m.ks.scale(r_dot_v.powf(m.shine));
-            colour = colour + (diffuse + specular).tinted(light.intensity);
+            let power = r_dot_v.powf(m.shine);
+            // No highlight (the reflection turned away) adds nothing: ks · 0 is 0.
+            let lit = if power == S::ZERO {
+                diffuse
+            } else {
+                diffuse + m.ks.scale(power)
+            };
+            colour = colour + lit.tinted(light.intensity);
         }
         colour
     }
