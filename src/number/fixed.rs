@@ -21,7 +21,33 @@ fn pow2(e: u32) -> f64 {
 #[cfg_attr(lensray_v6m, inline(never))]
 #[cfg_attr(not(lensray_v6m), inline)]
 fn mul_q16_wide(a: i32, b: i32) -> i32 {
+    #[cfg(lensray_v6m)]
+    if let Some(q) = mul_q16_short(a, b) {
+        return q;
+    }
     sat32(shr_round(mul_i32_inline(a, b), 16))
+}
+
+/// [`mul_q16_wide`] in two 32-bit products when one magnitude is below 2^16
+/// (a unit component times a value above 1, which never saturates). `None`
+/// otherwise.
+#[inline(always)]
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+fn mul_q16_short(a: i32, b: i32) -> Option<i32> {
+    let (ua, ub) = (a.unsigned_abs(), b.unsigned_abs());
+    let (s, l) = if ua < ub { (ua, ub) } else { (ub, ua) };
+    if s >= 1 << 16 {
+        return None;
+    }
+    // s · l / 2^16 = s · l_hi + s · l_lo / 2^16; both products fit a u32 and
+    // the sum stays below 2^31.
+    let (hi, lo) = (s * (l >> 16), s * (l & 0xFFFF));
+    // floor(p / 2^16 + 1/2) for p = ±s · l, as `mul_q16_small`.
+    Some(if (a ^ b) < 0 {
+        -((hi + ((lo + 0x7FFF) >> 16)) as i32)
+    } else {
+        (hi + ((lo + 0x8000) >> 16)) as i32
+    })
 }
 
 /// [`mul_q16_wide`] in 32-bit arithmetic when both magnitudes are at most
@@ -655,7 +681,7 @@ mod mul_tests {
             s ^= s << 17;
             s
         };
-        let mut small = 0;
+        let (mut small, mut short) = (0, 0);
         let values = edges
             .iter()
             .flat_map(|&e| [e, -e])
@@ -663,6 +689,13 @@ mod mul_tests {
             .collect::<Vec<i32>>();
         for (i, &a) in values.iter().enumerate() {
             for &b in values[i..].iter().take(40).chain(&edges) {
+                let exact = sat32(shr_round(a as i64 * b as i64, 16));
+                if let Some(q) = mul_q16_short(a, b) {
+                    short += 1;
+                    assert_eq!(q, exact, "{a} * {b}");
+                } else {
+                    assert!(a.unsigned_abs() >= 0x10000 && b.unsigned_abs() >= 0x10000, "{a} * {b}");
+                }
                 if let Some(q) = mul_q16_small(a, b) {
                     small += 1;
                     assert_eq!(q, mul_q16_wide(a, b), "{a} * {b}");
@@ -686,6 +719,7 @@ mod mul_tests {
             assert_eq!(mul_q16_small(a, b), Some(mul_q16_wide(a, b)), "{a} * {b}");
         }
         assert!(small > 100_000, "the small path was taken {small} times");
+        assert!(short > 1_000_000, "the short path was taken {short} times");
     }
 }
 
