@@ -532,6 +532,10 @@ impl Kernels for I16F16 {
         map.film(i, j)
     }
     #[inline]
+    fn film_dir_right(map: &FixedFilmMap, film: &[i64; 3], _i: i32, _j: i32) -> [i64; 3] {
+        map.right(film)
+    }
+    #[inline]
     fn film_ray_dir(map: &FixedFilmMap, film: &[i64; 3], lens: (i32, i32)) -> (FixedDir, [Self; 3]) {
         map.ray_dir(film, lens)
     }
