@@ -408,9 +408,10 @@ impl Kernels for I16F16 {
     #[inline]
     fn dot_positive(a: [Self; 3], b: [Self; 3]) -> bool {
         // Three exact products below 2^62 each: the i64 sum cannot overflow.
-        mul_i32(a[0].to_bits(), b[0].to_bits())
-            + mul_i32(a[1].to_bits(), b[1].to_bits())
-            + mul_i32(a[2].to_bits(), b[2].to_bits())
+        // In place: once for each light at each hit.
+        mul_i32_inline(a[0].to_bits(), b[0].to_bits())
+            + mul_i32_inline(a[1].to_bits(), b[1].to_bits())
+            + mul_i32_inline(a[2].to_bits(), b[2].to_bits())
             > 0
     }
     fn within(v: [Self; 3], r: Self) -> bool {
