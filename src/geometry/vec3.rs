@@ -83,6 +83,12 @@ impl<S: Scalar> Vec3<S> {
         Vec3::new(self.x.mul_inline(o.x), self.y.mul_inline(o.y), self.z.mul_inline(o.z))
     }
 
+    /// `self * 1/4`, component by component, without the products.
+    #[inline(always)]
+    pub fn quarter(self) -> Self {
+        Vec3::new(self.x.quarter(), self.y.quarter(), self.z.quarter())
+    }
+
     /// [`Vec3::hadamard`] by a light's colour: white (every component 1)
     /// leaves `self` as it is, which is each type's product by 1, for free.
     #[inline(always)]
@@ -156,7 +162,33 @@ impl<S: crate::bytes::Field> crate::bytes::Field for Vec3<S> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::number::Kernels;
     use fixed::types::I16F16;
+
+    /// A quarter is the product by 1/4 in both types: every Q16.16 value's
+    /// low bits and sign, and the extremes.
+    #[test]
+    fn quarter_is_the_product_by_a_quarter() {
+        let q = I16F16::from_q15(8192);
+        let edges = [
+            i32::MIN,
+            i32::MIN + 1,
+            i32::MIN + 2,
+            i32::MAX - 2,
+            i32::MAX - 1,
+            i32::MAX,
+        ];
+        for bits in (-70_000..70_000)
+            .chain((0..1 << 16).map(|k: i32| k.wrapping_mul(32_771)))
+            .chain(edges)
+        {
+            let x = I16F16::from_bits(bits);
+            assert_eq!(x.quarter(), x.mul_inline(q), "{bits}");
+        }
+        for x in [f32::MIN, -1.5, -0.0, 0.0, 1e-40, 0.3, 1.0, f32::MAX, f32::INFINITY] {
+            assert_eq!(x.quarter().to_bits(), x.mul_inline(f32::from_q15(8192)).to_bits());
+        }
+    }
 
     /// A white light's `tinted` is the product by 1 it skips, bit for bit,
     /// in both types and at the extremes.

@@ -320,6 +320,13 @@ impl Kernels for I16F16 {
         }
         I16F16::from_bits(mul_q16_wide(a, b))
     }
+    #[inline(always)]
+    fn quarter(self) -> Self {
+        // x · 2^14 / 2^16 rounded to nearest, ties up: floor((x + 2) / 4),
+        // in two parts so that x + 2 cannot overflow; never saturates.
+        let x = self.to_bits();
+        I16F16::from_bits((x >> 2) + (((x & 3) + 2) >> 2))
+    }
     const SHADOW_SKIPS_OWN_CONVEX: bool = true;
     const SHADOW_PRECISE_DIR: bool = true;
     fn checker_scale(side: f64) -> Self {

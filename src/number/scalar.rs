@@ -85,6 +85,8 @@ mod kernels {
         /// `Scalar::mul` expanded in place: for the vector operators on the
         /// per-ray path (a call there costs more than the product on the M0).
         fn mul_inline(self, o: Self) -> Self;
+        /// `self.mul_inline(1/4)` (a dark checker square's colour), the same value.
+        fn quarter(self) -> Self;
         /// Whether a shadow ray leaving the lit side of a convex object skips
         /// that object: Q16.16's absolute rounding at a large object's magnitude
         /// outgrows any fixed offset (f32's relative rounding does not; its

@@ -30,8 +30,7 @@ impl<S: Scalar> Scene<S> {
         if let Some(f) = filtered {
             (m.ka * f, m.kd * f)
         } else if obj.in_dark_square_of(hit, o, precise) {
-            let q = S::from_q15(8192);
-            (m.ka * q, m.kd * q)
+            (m.ka.quarter(), m.kd.quarter())
         } else {
             (m.ka, m.kd)
         }
