@@ -329,6 +329,20 @@ impl<S: Scalar> Camera<S> {
         }
     }
 
+    /// [`Camera::film_point`] of (`col`, `row`) from `left`, that of
+    /// (`col - 1`, `row`): the same point, stepped along the row where the
+    /// number type can.
+    #[inline]
+    pub fn film_point_right_of(&self, left: &FilmPoint<S>, col: u32, row: u32) -> FilmPoint<S> {
+        if col == 0 || col > MAX_IMAGE_SIDE {
+            return self.film_point(col, row);
+        }
+        let (i, j) = Self::doubled(col - 1, row);
+        FilmPoint {
+            film: S::film_dir_right(&self.map, &left.film, i, j),
+        }
+    }
+
     /// The camera's one ray-making entry: the ray of `sample`, whose lens
     /// point was drawn outside (by the renderer's sampler), so the camera
     /// holds no random state.
@@ -408,6 +422,35 @@ mod tests {
             "{d:?}"
         );
         assert_eq!(ray.origin.to_f64(), [0.0; 3]);
+    }
+
+    /// Film points stepped along a row are the film points themselves, in
+    /// both types, for a few sizes and views.
+    #[test]
+    fn stepped_film_points_are_the_film_points() {
+        fn check<S: Scalar>(params: &CameraParams, cols: u32, rows: u32) {
+            let cam = Camera::<S>::new(params, cols, rows);
+            for row in [0, rows / 2, rows - 1] {
+                let mut left = cam.film_point(0, row);
+                for col in 1..cols {
+                    let f = cam.film_point_right_of(&left, col, row);
+                    assert_eq!(f, cam.film_point(col, row), "({col}, {row}) of {cols}x{rows}");
+                    left = f;
+                }
+            }
+        }
+        let tilted = CameraParams {
+            look: [0.3, -0.2, -1.0],
+            up: [0.1, 1.0, 0.2],
+            lens_position: [1.25, -0.3, 2.0],
+            ..CameraParams::default()
+        };
+        for params in [CameraParams::default(), tilted] {
+            for (cols, rows) in [(1, 1), (160, 120), (641, 481), (1000, 7)] {
+                check::<I16F16>(&params, cols, rows);
+                check::<f32>(&params, cols, rows);
+            }
+        }
     }
 
     #[test]

@@ -83,6 +83,23 @@ impl<S: Scalar> Vec3<S> {
         Vec3::new(self.x.mul_inline(o.x), self.y.mul_inline(o.y), self.z.mul_inline(o.z))
     }
 
+    /// `self * 1/4`, component by component, without the products.
+    #[inline(always)]
+    pub fn quarter(self) -> Self {
+        Vec3::new(self.x.quarter(), self.y.quarter(), self.z.quarter())
+    }
+
+    /// [`Vec3::hadamard`] by a light's colour: white (every component 1)
+    /// leaves `self` as it is, which is each type's product by 1, for free.
+    #[inline(always)]
+    pub fn tinted(self, light: Self) -> Self {
+        if light.x == S::ONE && light.y == S::ONE && light.z == S::ONE {
+            self
+        } else {
+            self.hadamard(light)
+        }
+    }
+
     /// Unit vector along `self` and the length of `self`; zero stays zero.
     #[inline]
     pub fn normalize_len(self) -> (Self, S) {
@@ -140,4 +157,72 @@ impl<S: Scalar> Mul<S> for Vec3<S> {
 
 impl<S: crate::bytes::Field> crate::bytes::Field for Vec3<S> {
     crate::bytes::baked_fields!(Vec3 { x, y, z });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::number::Kernels;
+    use fixed::types::I16F16;
+
+    /// A quarter is the product by 1/4 in both types: every Q16.16 value's
+    /// low bits and sign, and the extremes.
+    #[test]
+    fn quarter_is_the_product_by_a_quarter() {
+        let q = I16F16::from_q15(8192);
+        let edges = [
+            i32::MIN,
+            i32::MIN + 1,
+            i32::MIN + 2,
+            i32::MAX - 2,
+            i32::MAX - 1,
+            i32::MAX,
+        ];
+        for bits in (-70_000..70_000)
+            .chain((0..1 << 16).map(|k: i32| k.wrapping_mul(32_771)))
+            .chain(edges)
+        {
+            let x = I16F16::from_bits(bits);
+            assert_eq!(x.quarter(), x.mul_inline(q), "{bits}");
+        }
+        for x in [f32::MIN, -1.5, -0.0, 0.0, 1e-40, 0.3, 1.0, f32::MAX, f32::INFINITY] {
+            assert_eq!(x.quarter().to_bits(), x.mul_inline(f32::from_q15(8192)).to_bits());
+        }
+    }
+
+    /// A white light's `tinted` is the product by 1 it skips, bit for bit,
+    /// in both types and at the extremes.
+    #[test]
+    fn white_tint_is_the_product_by_one() {
+        let white = Vec3::new(I16F16::ONE, I16F16::ONE, I16F16::ONE);
+        for bits in [
+            i32::MIN,
+            i32::MIN + 1,
+            -65537,
+            -65536,
+            -1,
+            0,
+            1,
+            32768,
+            65535,
+            65536,
+            65537,
+            i32::MAX,
+        ] {
+            let v = Vec3::new(
+                I16F16::from_bits(bits),
+                I16F16::from_bits(!bits),
+                I16F16::from_bits(bits),
+            );
+            assert_eq!(v.tinted(white), v.hadamard(white), "{bits}");
+        }
+        let white = Vec3::new(1.0f32, 1.0, 1.0);
+        for x in [f32::MIN, -1.5, -0.0, 0.0, 1e-40, 0.3, 1.0, f32::MAX, f32::INFINITY] {
+            let v = Vec3::new(x, -x, x);
+            assert_eq!(
+                v.tinted(white).to_array().map(f32::to_bits),
+                v.hadamard(white).to_array().map(f32::to_bits)
+            );
+        }
+    }
 }

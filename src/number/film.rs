@@ -154,6 +154,17 @@ impl FixedFilmMap {
         }
     }
 
+    /// `D(i + 2, j)` from `D(i, j)`: one step of `2 a`, exact as `film` is.
+    #[inline]
+    pub fn right(&self, film: &[i64; 3]) -> [i64; 3] {
+        let a = &self.a;
+        [
+            film[0] + 2 * a[0] as i64,
+            film[1] + 2 * a[1] as i64,
+            film[2] + 2 * a[2] as i64,
+        ]
+    }
+
     /// `D(i, j)` exactly, at scale `2^-(s + f)`.
     #[inline]
     pub fn film(&self, i: i32, j: i32) -> [i64; 3] {

@@ -5,7 +5,8 @@ use crate::number::film::{FilmMapDesc, FixedFilmMap};
 use crate::number::q16::{sat32, shr_round, FixedDir, FixedRow};
 use crate::number::scalar::{BakeScalar, Kernels, Scalar};
 use crate::number::wide::{
-    bits_u64, div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i32_inline, mul_i64, mul_u32, mul_u64,
+    bits_u64, div_pow2_u32, div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i32_inline, mul_i64, mul_u32,
+    mul_u64, sar64,
 };
 use fixed::types::I16F16;
 
@@ -20,7 +21,33 @@ fn pow2(e: u32) -> f64 {
 #[cfg_attr(lensray_v6m, inline(never))]
 #[cfg_attr(not(lensray_v6m), inline)]
 fn mul_q16_wide(a: i32, b: i32) -> i32 {
+    #[cfg(lensray_v6m)]
+    if let Some(q) = mul_q16_short(a, b) {
+        return q;
+    }
     sat32(shr_round(mul_i32_inline(a, b), 16))
+}
+
+/// [`mul_q16_wide`] in two 32-bit products when one magnitude is below 2^16
+/// (a unit component times a value above 1, which never saturates). `None`
+/// otherwise.
+#[inline(always)]
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+fn mul_q16_short(a: i32, b: i32) -> Option<i32> {
+    let (ua, ub) = (a.unsigned_abs(), b.unsigned_abs());
+    let (s, l) = if ua < ub { (ua, ub) } else { (ub, ua) };
+    if s >= 1 << 16 {
+        return None;
+    }
+    // s · l / 2^16 = s · l_hi + s · l_lo / 2^16; both products fit a u32 and
+    // the sum stays below 2^31.
+    let (hi, lo) = (s * (l >> 16), s * (l & 0xFFFF));
+    // floor(p / 2^16 + 1/2) for p = ±s · l, as `mul_q16_small`.
+    Some(if (a ^ b) < 0 {
+        -((hi + ((lo + 0x7FFF) >> 16)) as i32)
+    } else {
+        (hi + ((lo + 0x8000) >> 16)) as i32
+    })
 }
 
 /// [`mul_q16_wide`] in 32-bit arithmetic when both magnitudes are at most
@@ -293,6 +320,13 @@ impl Kernels for I16F16 {
         }
         I16F16::from_bits(mul_q16_wide(a, b))
     }
+    #[inline(always)]
+    fn quarter(self) -> Self {
+        // x · 2^14 / 2^16 rounded to nearest, ties up: floor((x + 2) / 4),
+        // in two parts so that x + 2 cannot overflow; never saturates.
+        let x = self.to_bits();
+        I16F16::from_bits((x >> 2) + (((x & 3) + 2) >> 2))
+    }
     const SHADOW_SKIPS_OWN_CONVEX: bool = true;
     const SHADOW_PRECISE_DIR: bool = true;
     fn checker_scale(side: f64) -> Self {
@@ -311,9 +345,10 @@ impl Kernels for I16F16 {
     }
     #[inline]
     fn checker_cell(x: Self, side: Self, scale: Self) -> i64 {
-        // floor(x m / 2^(29 + b)), exactly: both factors below 2^31.
-        let b = 32 - side.to_bits().leading_zeros();
-        mul_i32(x.to_bits(), scale.to_bits()) >> (29 + b)
+        // floor(x m / 2^(29 + b)), exactly: both factors below 2^31. The
+        // count and the shift by words (each a runtime call on the M0).
+        let b = bits_u64(side.to_bits() as u32 as u64);
+        sar64(mul_i32(x.to_bits(), scale.to_bits()), 29 + b)
     }
     // In place (the side's bit count shared by the three axes: no CLZ on the M0).
     #[inline(always)]
@@ -370,7 +405,7 @@ impl Kernels for I16F16 {
         }
         // One division for a Q2.46-ish reciprocal, then three exact-enough multiplies.
         // 0 < l < 2^31 fits the 32-bit divisor.
-        let recip = div_rem_u64_u32(1 << 46, l as u32).0 as i64;
+        let recip = div_pow2_u32(46, l as u32) as i64;
         let unit = v.map(|x| {
             let p = mul_i64(x.to_bits() as i64, recip);
             I16F16::from_bits(sat32(shr_round(p, 30)))
@@ -380,9 +415,10 @@ impl Kernels for I16F16 {
     #[inline]
     fn dot_positive(a: [Self; 3], b: [Self; 3]) -> bool {
         // Three exact products below 2^62 each: the i64 sum cannot overflow.
-        mul_i32(a[0].to_bits(), b[0].to_bits())
-            + mul_i32(a[1].to_bits(), b[1].to_bits())
-            + mul_i32(a[2].to_bits(), b[2].to_bits())
+        // In place: once for each light at each hit.
+        mul_i32_inline(a[0].to_bits(), b[0].to_bits())
+            + mul_i32_inline(a[1].to_bits(), b[1].to_bits())
+            + mul_i32_inline(a[2].to_bits(), b[2].to_bits())
             > 0
     }
     fn within(v: [Self; 3], r: Self) -> bool {
@@ -502,6 +538,10 @@ impl Kernels for I16F16 {
     #[inline]
     fn film_dir(map: &FixedFilmMap, i: i32, j: i32) -> [i64; 3] {
         map.film(i, j)
+    }
+    #[inline]
+    fn film_dir_right(map: &FixedFilmMap, film: &[i64; 3], _i: i32, _j: i32) -> [i64; 3] {
+        map.right(film)
     }
     #[inline]
     fn film_ray_dir(map: &FixedFilmMap, film: &[i64; 3], lens: (i32, i32)) -> (FixedDir, [Self; 3]) {
@@ -653,7 +693,7 @@ mod mul_tests {
             s ^= s << 17;
             s
         };
-        let mut small = 0;
+        let (mut small, mut short) = (0, 0);
         let values = edges
             .iter()
             .flat_map(|&e| [e, -e])
@@ -661,6 +701,13 @@ mod mul_tests {
             .collect::<Vec<i32>>();
         for (i, &a) in values.iter().enumerate() {
             for &b in values[i..].iter().take(40).chain(&edges) {
+                let exact = sat32(shr_round(a as i64 * b as i64, 16));
+                if let Some(q) = mul_q16_short(a, b) {
+                    short += 1;
+                    assert_eq!(q, exact, "{a} * {b}");
+                } else {
+                    assert!(a.unsigned_abs() >= 0x10000 && b.unsigned_abs() >= 0x10000, "{a} * {b}");
+                }
                 if let Some(q) = mul_q16_small(a, b) {
                     small += 1;
                     assert_eq!(q, mul_q16_wide(a, b), "{a} * {b}");
@@ -684,6 +731,7 @@ mod mul_tests {
             assert_eq!(mul_q16_small(a, b), Some(mul_q16_wide(a, b)), "{a} * {b}");
         }
         assert!(small > 100_000, "the small path was taken {small} times");
+        assert!(short > 1_000_000, "the short path was taken {short} times");
     }
 }
 

@@ -116,6 +116,10 @@ impl Kernels for f32 {
     fn mul_inline(self, o: Self) -> Self {
         self * o
     }
+    #[inline(always)]
+    fn quarter(self) -> Self {
+        self * 0.25
+    }
     const SHADOW_SKIPS_OWN_CONVEX: bool = false;
     const SHADOW_PRECISE_DIR: bool = false;
     const LOCAL_FROM_CENTRE: bool = true;

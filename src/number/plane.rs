@@ -10,7 +10,7 @@
 
 use crate::number::q16::{shr_round, FixedDir, FixedRow};
 use crate::number::wide::{
-    bits_u64, bits_u64_inline, div_rem_u64, div_rem_u64_u32, isqrt_rem_u64, mul_i32, mul_i32_inline, mul_i64,
+    bits_u64, bits_u64_inline, div_pow2_u32, div_rem_u64, isqrt_rem_u64, mul_i32, mul_i32_inline, mul_i64,
     mul_u32_inline, sar64,
 };
 use fixed::types::I16F16;
@@ -117,7 +117,7 @@ pub(crate) fn unit_mantissas(d: [i64; 3]) -> Option<[i64; 3]> {
     // 32 bits where l > 2^29 (callers scale their vectors up to make it so).
     Some(if l > 1 << 29 {
         // l < 2^32 (sq < 2^64) and the quotient fits 32 bits: the fast division.
-        let recip = div_rem_u64_u32(1 << 61, l as u32).0 as u32;
+        let recip = div_pow2_u32(61, l as u32) as u32;
         d.map(|x| {
             // |x| <= l < 2^32: one 32 x 32-bit product.
             let q = ((mul_u32_inline(x.unsigned_abs() as u32, recip) + (1 << 30)) >> 31) as i64;

@@ -85,6 +85,8 @@ mod kernels {
         /// `Scalar::mul` expanded in place: for the vector operators on the
         /// per-ray path (a call there costs more than the product on the M0).
         fn mul_inline(self, o: Self) -> Self;
+        /// `self.mul_inline(1/4)` (a dark checker square's colour), the same value.
+        fn quarter(self) -> Self;
         /// Whether a shadow ray leaving the lit side of a convex object skips
         /// that object: Q16.16's absolute rounding at a large object's magnitude
         /// outgrows any fixed offset (f32's relative rounding does not; its
@@ -171,6 +173,12 @@ mod kernels {
         fn film_map(desc: &FilmMapDesc) -> Self::FilmMap;
         /// The chief direction `D(i, j)` of the doubled pixel centre (i, j).
         fn film_dir(map: &Self::FilmMap, i: i32, j: i32) -> Self::Film;
+        /// `film_dir(map, i + 2, j)` from `film = film_dir(map, i, j)`, the
+        /// pixel to its right: the same value, where a type can step to it.
+        #[inline]
+        fn film_dir_right(map: &Self::FilmMap, _film: &Self::Film, i: i32, j: i32) -> Self::Film {
+            Self::film_dir(map, i + 2, j)
+        }
         /// The unit direction along the film direction tilted by a lens sample
         /// (Q1.15; (0, 0) for the chief ray): precise, marked unit, and rounded.
         fn film_ray_dir(map: &Self::FilmMap, film: &Self::Film, lens: (i32, i32)) -> (Self::Dir, [Self; 3]);

@@ -96,6 +96,10 @@ pub(crate) fn mul_u32_inline(a: u32, b: u32) -> u64 {
 #[inline(always)]
 #[cfg_attr(not(lensray_v6m), allow(dead_code))]
 pub(crate) fn mul_i64_halves(a: i64, b: i64) -> i64 {
+    // Both within an i32 (the usual case): signed halves, no signs to take off and put back.
+    if a as i32 as i64 == a && b as i32 as i64 == b {
+        return mul_i32_halves(a as i32, b as i32);
+    }
     let (ua, ub) = (a.unsigned_abs(), b.unsigned_abs());
     if (ua | ub) >> 32 == 0 {
         let p = mul_u32_halves(ua as u32, ub as u32) as i64;
@@ -453,7 +457,9 @@ fn recip_word_estimate(d: u32) -> u32 {
 /// `floor((2^64 - 1) / d) - 2^32` for a normalised divisor `d >= 2^31`,
 /// exactly: the reciprocal of the 2-by-1 word division of Möller and
 /// Granlund (2011), from [`recip_word_estimate`] corrected by the remainder.
-#[inline(always)]
+// One copy on the M0, shared by the divisions and the powers of two' reciprocals.
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline(always))]
 #[cfg_attr(not(lensray_v6m), allow(dead_code))]
 fn recip_word(d: u32) -> u32 {
     let mut v = recip_word_estimate(d);
@@ -650,6 +656,43 @@ pub(crate) fn div_rem_u64_u32(n: u64, d: u32) -> (u64, u32) {
     Recip::new(d).div_rem(n)
 }
 
+/// `floor(2^k / l)` for `l > 0` from the word reciprocal alone, where
+/// `2^k / l` is `2^64 / (l << s)` shifted right (`s` the leading zeros of l);
+/// `None` for other `k`.
+#[inline(always)]
+#[cfg_attr(not(lensray_v6m), allow(dead_code))]
+fn div_pow2_by_recip(k: u32, l: u32) -> Option<u64> {
+    let s = clz32(l);
+    if s + k <= 32 || s + k > 64 {
+        return None;
+    }
+    let dn = l << s;
+    // floor(2^64 / dn) = 2^32 + recip_word(dn), but 2^33 for dn = 2^31.
+    let (hi, lo) = if dn == 1 << 31 {
+        (2u32, 0u32)
+    } else {
+        (1, recip_word(dn))
+    };
+    // floor(floor(x) / 2^sh) = floor(x / 2^sh), with sh < 32.
+    let sh = 64 - k - s;
+    if sh == 0 {
+        return Some(((hi as u64) << 32) | lo as u64);
+    }
+    Some((((hi >> sh) as u64) << 32) | ((lo >> sh) | (hi << (32 - sh))) as u64)
+}
+
+/// `floor(2^k / l)` for `l > 0`, `k < 64`: on the M0 without the division's
+/// multiply-and-correct steps where [`div_pow2_by_recip`] applies.
+#[cfg_attr(lensray_v6m, inline(never))]
+#[cfg_attr(not(lensray_v6m), inline)]
+pub(crate) fn div_pow2_u32(k: u32, l: u32) -> u64 {
+    #[cfg(lensray_v6m)]
+    if let Some(q) = div_pow2_by_recip(k, l) {
+        return q;
+    }
+    div_rem_u64_u32(1 << k, l).0
+}
+
 /// `(n / d, n % d)` exactly, for `d > 0`: through [`Recip`] when d fits 32 bits.
 #[inline]
 pub(crate) fn div_rem_u64(n: u64, d: u64) -> (u64, u64) {
@@ -791,6 +834,8 @@ mod tests {
                 assert_eq!(mul_u32_halves(a, b), a as u64 * b as u64, "{a} * {b}");
                 let (x, y) = (a as i32, b as i32);
                 assert_eq!(mul_i32_halves(x, y), x as i64 * y as i64, "{x} * {y}");
+                assert_eq!(mul_i64_halves(x as i64, y as i64), x as i64 * y as i64, "{x} * {y}");
+                assert_eq!(mul_i64_halves(a as i64, y as i64), a as i64 * y as i64, "{a} * {y}");
             }
         }
         let mut r = rng(7);
@@ -1049,6 +1094,25 @@ mod tests {
     }
 
     /// One reciprocal, many dividends.
+    #[test]
+    fn powers_of_two_divide_by_the_reciprocal() {
+        let mut next = rng(0x5EED_2F0C);
+        let mut ls: Vec<u32> = (1..=4096)
+            .chain((0..32).flat_map(|b| [1u32 << b, (1u32 << b).wrapping_sub(1), (1u32 << b) + 1]))
+            .collect();
+        ls.extend((0..50_000).map(|_| (next() as u32) >> (next() % 32)));
+        ls.push(u32::MAX);
+        for l in ls.into_iter().filter(|&l| l != 0) {
+            for k in [0, 31, 32, 33, 40, 46, 50, 61, 62, 63] {
+                let want = (1u64 << k) / l as u64;
+                if let Some(q) = div_pow2_by_recip(k, l) {
+                    assert_eq!(q, want, "2^{k} / {l}");
+                }
+                assert_eq!(div_pow2_u32(k, l), want, "2^{k} / {l}");
+            }
+        }
+    }
+
     #[test]
     fn reciprocal_reused() {
         let mut r = rng(19);

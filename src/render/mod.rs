@@ -9,7 +9,7 @@
 //! `cull`'s; a stratified ray's checker footprint is `defocus`'s.
 
 use crate::camera::sampler::{PixelSamples, Sampler};
-use crate::camera::{Camera, CameraSample, FilmFrame, MAX_IMAGE_SIDE};
+use crate::camera::{Camera, CameraSample, FilmFrame, FilmPoint, MAX_IMAGE_SIDE};
 use crate::geometry::ray::Ray;
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
@@ -211,12 +211,31 @@ impl<'a, S: Scalar, P: Borrow<Setup<S>>> Renderer<'a, S, P> {
     ///
     /// Never: all arithmetic saturates.
     pub fn pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
-        if self.s().camera.is_pinhole() {
-            let ray = self.camera_ray(col, row, None);
-            // The pixel's own: the cones' boxes skip what its chief ray cannot reach.
-            let pixel = Some((col.min(MAX_IMAGE_SIDE) as i16, row.min(MAX_IMAGE_SIDE) as i16));
-            return (self.scene.trace_ray(&ray, Some(&self.s().cones), None, pixel), 1);
+        self.pixel_rays_along(col, row, &mut None)
+    }
+
+    /// [`Renderer::pixel_rays`] for a row's pixels in order: a pinhole's chief
+    /// direction steps from the pixel to the left (`film`, carried from call
+    /// to call, `None` at a row's start), one addition where it took six products.
+    #[inline]
+    fn pixel_rays_along(&self, col: u32, row: u32, film: &mut Option<FilmPoint<S>>) -> (Vec3<S>, u32) {
+        let s = self.s();
+        if !s.camera.is_pinhole() {
+            return self.lens_pixel_rays(col, row);
         }
+        let f = match film {
+            Some(left) => s.camera.film_point_right_of(left, col, row),
+            None => s.camera.film_point(col, row),
+        };
+        *film = Some(f);
+        let ray = s.camera.generate_ray(&CameraSample { film: &f, lens: None });
+        // The pixel's own: the cones' boxes skip what its chief ray cannot reach.
+        let pixel = Some((col.min(MAX_IMAGE_SIDE) as i16, row.min(MAX_IMAGE_SIDE) as i16));
+        (self.scene.trace_ray(&ray, Some(&s.cones), None, pixel), 1)
+    }
+
+    /// [`Renderer::pixel_rays`] of a lens camera.
+    fn lens_pixel_rays(&self, col: u32, row: u32) -> (Vec3<S>, u32) {
         let Some(rule) = self.s().stop else {
             return self.lens_pixel((col, row), None, |_, _| false);
         };
@@ -242,8 +261,9 @@ impl<'a, S: Scalar, P: Borrow<Setup<S>>> Renderer<'a, S, P> {
     /// Never, for any `row` and any length of `out`.
     pub fn render_row(&self, row: u32, out: &mut [Rgb888]) -> u32 {
         let mut rays = 0u32;
+        let mut film = None;
         for (col, px) in (0..self.s().camera.cols()).zip(out.iter_mut()) {
-            let (c, n) = self.pixel_rays(col, row);
+            let (c, n) = self.pixel_rays_along(col, row, &mut film);
             *px = rgb(c);
             rays = rays.saturating_add(n);
         }
@@ -337,7 +357,8 @@ where
         // No overflow: row < addressable(origin.y).
         let top_left = Point::new(origin.x, origin.y + row as i32);
         let area = Rectangle::new(top_left, Size::new(cols, 1));
-        let pixels = (0..cols).map(|col| D::Color::from(renderer.pixel(col, row)));
+        let mut film = None;
+        let pixels = (0..cols).map(|col| D::Color::from(rgb(renderer.pixel_rays_along(col, row, &mut film).0)));
         target.fill_contiguous(&area, pixels)?;
     }
     Ok(())

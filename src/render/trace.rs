@@ -30,8 +30,7 @@ impl<S: Scalar> Scene<S> {
         if let Some(f) = filtered {
             (m.ka * f, m.kd * f)
         } else if obj.in_dark_square_of(hit, o, precise) {
-            let q = S::from_q15(8192);
-            (m.ka * q, m.kd * q)
+            (m.ka.quarter(), m.kd.quarter())
         } else {
             (m.ka, m.kd)
         }
@@ -192,7 +191,7 @@ impl<S: Scalar> Scene<S> {
         // inside, the ray crosses the object and the far wall counts.
         let own = (S::SHADOW_SKIPS_OWN_CONVEX && (outside || obj.shape == Shape::Plane)).then_some(i);
         let v = -d;
-        let mut colour = ka.hadamard(self.ambient);
+        let mut colour = ka.tinted(self.ambient);
         // Shadow rays leave from just above the surface, on the viewer's side.
         let p_shadow = if self.shadows { p + n * S::HIT_EPSILON } else { p };
         for light in &self.lights {
@@ -212,8 +211,14 @@ impl<S: Scalar> Scene<S> {
             let r = n.scale(n_dot_l.add(n_dot_l)) - l;
             let r_dot_v = r.dot_inline(v).max(S::ZERO);
             let diffuse = kd.scale(n_dot_l);
-            let specular = m.ks.scale(r_dot_v.powf(m.shine));
-            colour = colour + (diffuse + specular).hadamard(light.intensity);
+            let power = r_dot_v.powf(m.shine);
+            // No highlight (the reflection turned away) adds nothing: ks · 0 is 0.
+            let lit = if power == S::ZERO {
+                diffuse
+            } else {
+                diffuse + m.ks.scale(power)
+            };
+            colour = colour + lit.tinted(light.intensity);
         }
         colour
     }
