@@ -2,7 +2,7 @@
 //! path, saturating at the ends of the range.
 
 use crate::number::film::{FilmMapDesc, FixedFilmMap};
-use crate::number::q16::{sat32, shr_round, FixedDir, FixedRow};
+use crate::number::q16::{sat32, shr_round, side_bits, FixedDir, FixedRow};
 use crate::number::scalar::{BakeScalar, Kernels, Scalar};
 use crate::number::wide::{
     bits_u64, div_pow2_u32, div_rem_u64, div_rem_u64_u32, isqrt_round_u64, mul_i32, mul_i32_inline, mul_i64, mul_u32,
@@ -345,10 +345,9 @@ impl Kernels for I16F16 {
     }
     #[inline]
     fn checker_cell(x: Self, side: Self, scale: Self) -> i64 {
-        // floor(x m / 2^(29 + b)), exactly: both factors below 2^31. The
-        // count and the shift by words (each a runtime call on the M0).
-        let b = bits_u64(side.to_bits() as u32 as u64);
-        sar64(mul_i32(x.to_bits(), scale.to_bits()), 29 + b)
+        // floor(x m / 2^(29 + b)), exactly: both factors below 2^31; the shift
+        // by words (a runtime call on the M0).
+        sar64(mul_i32(x.to_bits(), scale.to_bits()), 29 + side_bits(side))
     }
     // In place (the side's bit count shared by the three axes: no CLZ on the M0).
     #[inline(always)]
@@ -374,12 +373,11 @@ impl Kernels for I16F16 {
     }
     #[inline]
     fn checker_pos(x: Self, side: Self, scale: Self) -> (i64, Self) {
-        let b = 32 - side.to_bits().leading_zeros();
         let p = mul_i32(x.to_bits(), scale.to_bits());
-        let s = 29 + b;
+        let s = 29 + side_bits(side);
         // The 16 bits below the cell index: its Q16.16 fraction.
         let frac = ((p & ((1i64 << s) - 1)) >> (s - 16)) as i32;
-        (p >> s, I16F16::from_bits(frac))
+        (sar64(p, s), I16F16::from_bits(frac))
     }
     type Row = FixedRow;
     type Acc = i64;

@@ -8,7 +8,7 @@
 //! hit within range. Every product of the 30-bit rows and mantissas is exact
 //! in an i64; grazing hits far away keep their precision.
 
-use crate::number::q16::{shr_round, FixedDir, FixedRow};
+use crate::number::q16::{shr_round, side_bits, FixedDir, FixedRow};
 use crate::number::wide::{
     bits_u64, bits_u64_inline, div_pow2_u32, div_rem_u64, isqrt_rem_u64, mul_i32, mul_i32_inline, mul_i64,
     mul_u32_inline, sar64,
@@ -334,8 +334,7 @@ fn far_xy(
 #[inline(never)]
 fn far_coord(row: &FixedRow, o: [I16F16; 3], d: &FixedDir, t: i64, g: u32, checker: (I16F16, I16F16)) -> I16F16 {
     let (side, m) = (checker.0.to_bits(), checker.1.to_bits());
-    // Bit length of the side's bits (> 0 with a texture), as checker_cell takes it.
-    let sb = 32 - (side as u32).leading_zeros();
+    let sb = side_bits(checker.0);
     let (dot, shift) = (dot(row, &d.m), 30 + row.shift);
     // In units of 2^(g + up) bits, up for a row that stretches (|row · D| up to 2^up).
     let gi = g + (bits(dot.unsigned_abs()) + 1).saturating_sub(shift);

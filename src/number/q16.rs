@@ -5,6 +5,14 @@
 use crate::number::wide::{bits_u64, isqrt_round_u64, mul_i32, mul_i64, sar64, Recip};
 use fixed::types::I16F16;
 
+/// The bit length of a checker side's Q16.16 bits (> 0 with a texture): the
+/// `b` of the cell index `floor(x m / 2^(29 + b))`. Without a runtime call
+/// on the M0.
+#[inline(always)]
+pub(crate) fn side_bits(side: I16F16) -> u32 {
+    bits_u64(side.to_bits() as u32 as u64)
+}
+
 /// Q16.16 matrix row: entries `m[i] · 2^-shift` with `|m[i]| <= 2^30`, and the
 /// translation at scale `2^(shift + 16)`, so `row · v` is an exact i64 sum.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -248,7 +256,7 @@ pub(crate) fn exact_cells(
     if slope == 0 || half_f.unsigned_abs() >= 1 << 40 {
         return None;
     }
-    let b = 32 - side.to_bits().leading_zeros();
+    let b = side_bits(side);
     let mut sum = 0;
     for j in 0..3 {
         sum += if surface == FLAT && nb[j] != 0 {

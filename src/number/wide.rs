@@ -1102,15 +1102,20 @@ mod tests {
             .collect();
         ls.extend((0..50_000).map(|_| (next() as u32) >> (next() % 32)));
         ls.push(u32::MAX);
+        let (mut cases, mut by_recip) = (0, 0);
         for l in ls.into_iter().filter(|&l| l != 0) {
             for k in [0, 31, 32, 33, 40, 46, 50, 61, 62, 63] {
                 let want = (1u64 << k) / l as u64;
+                cases += 1;
                 if let Some(q) = div_pow2_by_recip(k, l) {
+                    by_recip += 1;
                     assert_eq!(q, want, "2^{k} / {l}");
                 }
                 assert_eq!(div_pow2_u32(k, l), want, "2^{k} / {l}");
             }
         }
+        // The reciprocal's path (leading zeros of l plus k in 33..=64): about half of these.
+        assert!(by_recip * 3 > cases, "{by_recip} of {cases} by the reciprocal");
     }
 
     #[test]
