@@ -302,7 +302,7 @@ step "writing $out"
   echo "| $(field "$d" flash) (floor 40,960) | $(field "$d" static_ram) | $(field "$d" peak_stack) (with the statics, floor 8,192) | $(field "$d" per_pixel) | $(before microbit-default) ($(change "$(before microbit-default)" "$(field "$d" per_pixel)")) | $default_rays |"
   echo
   echo "Flash here is the report's \`.text\` + \`.rodata\` + \`.data\`. The floors are"
-  echo "\`host-tests/tests/firmware.rs\`'s (with 8,600 instructions a pixel for Program 1"
+  echo "\`host-tests/tests/firmware.rs\`'s (with $(sed -n 's/^const MICROBIT_PINHOLE: u64 = \([0-9]*\);/\1/p' host-tests/tests/firmware.rs) instructions a pixel for Program 1"
   echo "pinhole); the adaptive pre-pass runs on the host when the scene is baked."
   echo
   echo "### Raspberry Pi Pico under rp2040js"
