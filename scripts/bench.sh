@@ -8,6 +8,8 @@
 #   flash, static RAM and peak stack, with the instructions as bar charts
 #   (docs/bench-boards-*.png); the micro:bit's default build; the Pico
 #   under rp2040js (cycles a pixel, Program 1 as a pinhole);
+# - the boards' figures at the commit where the speed work began, beside
+#   today's (scripts/bench-before.sh; LENSRAY_BENCH_BEFORE=REF for another);
 # - a per-operation profile on the Cortex-M0 (firmware feature `profile`);
 # - host rays per second (criterion, host-tests/benches/render.rs), one thread
 #   and all cores, with the machine's load, and the parallel speedup measured
@@ -148,6 +150,14 @@ bars() { # mode title out
 bars pinhole "Program 1 through a pinhole, ${W}x${H}: instructions a pixel under QEMU (fewer is faster)" docs/bench-boards-pinhole.png
 bars lens16 "Program 1, radius 0.2, 16 lens samples, ${W}x${H}: instructions a pixel under QEMU" docs/bench-boards-lens.png
 
+# The same runs at the commit where the speed work began (issue 55's start),
+# built in a worktree, for the before-and-after table.
+before_ref=${LENSRAY_BENCH_BEFORE:-cabfae5}
+step "before: the boards at $before_ref (scripts/bench-before.sh)"
+bash scripts/bench-before.sh "$before_ref" "$work/before.txt"
+before() { awk -v k="$1" '$1 == k { print $2 }' "$work/before.txt"; }
+change() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%+.1f %%", 100 * (b - a) / a }'; }
+
 # The micro:bit's default build, as tests/firmware.rs holds it: Program 1 at
 # its defaults (point 70, stratified and adaptive), baked, 160x120.
 step "microbit: the default build (Program 1 at its defaults)"
@@ -260,6 +270,25 @@ step "writing $out"
   echo
   echo "Below 1 means f32 is faster: the Cortex-M4F's FPU beats Q16.16."
   echo
+  echo "### Before and after the speed work"
+  echo
+  echo '```sh'
+  echo "bash scripts/bench-before.sh $before_ref OUT   # the runs above at commit $before_ref"
+  echo '```'
+  echo
+  echo "Instructions a pixel at commit \`$before_ref\` and now, the same runs as the table above."
+  echo
+  echo "| board | pinhole Q16.16 | pinhole f32 | 16 lens samples Q16.16 | 16 lens samples f32 |"
+  echo "|---|---|---|---|---|"
+  for b in "${boards[@]}"; do
+    cells=""
+    for k in pinhole-q16 pinhole-f32 lens16-q16 lens16-f32; do
+      was=$(before "$b-$k"); now=${per_pixel[$b-$k]}
+      cells+=" $was -> $now ($(change "$was" "$now")) |"
+    done
+    echo "| $b |$cells"
+  done
+  echo
   echo "### The micro:bit's default build"
   echo
   echo '```sh'
@@ -267,13 +296,13 @@ step "writing $out"
   echo "lensray render scenes/paper-program1.scene --width $W --height $H              # the rays a pixel"
   echo '```'
   echo
-  echo "| flash bytes | static RAM bytes | peak stack bytes | instructions/pixel | rays/pixel (mean) |"
-  echo "|---|---|---|---|---|"
+  echo "| flash bytes | static RAM bytes | peak stack bytes | instructions/pixel | at \`$before_ref\` | rays/pixel (mean) |"
+  echo "|---|---|---|---|---|---|"
   d="$work/microbit-default.log"
-  echo "| $(field "$d" flash) (floor 40,960) | $(field "$d" static_ram) | $(field "$d" peak_stack) (with the statics, floor 8,192) | $(field "$d" per_pixel) | $default_rays |"
+  echo "| $(field "$d" flash) (floor 40,960) | $(field "$d" static_ram) | $(field "$d" peak_stack) (with the statics, floor 8,192) | $(field "$d" per_pixel) | $(before microbit-default) ($(change "$(before microbit-default)" "$(field "$d" per_pixel)")) | $default_rays |"
   echo
   echo "Flash here is the report's \`.text\` + \`.rodata\` + \`.data\`. The floors are"
-  echo "\`host-tests/tests/firmware.rs\`'s (with 8,600 instructions a pixel for Program 1"
+  echo "\`host-tests/tests/firmware.rs\`'s (with $(sed -n 's/^const MICROBIT_PINHOLE: u64 = \([0-9]*\);/\1/p' host-tests/tests/firmware.rs) instructions a pixel for Program 1"
   echo "pinhole); the adaptive pre-pass runs on the host when the scene is baked."
   echo
   echo "### Raspberry Pi Pico under rp2040js"

@@ -245,16 +245,80 @@ impl FilmFrame {
             ((a * az - root) / den, (a * az + root) / den)
         };
         let ((x0, x1), (y0, y1)) = (slopes(ax), slopes(ay));
-        // u_c = N m = -W + p (c + 1/2) and v_r = N m = H - p (r + 1/2).
-        let (p, (w, h), big_n) = (self.pitch, self.half, self.big_n);
-        let col = |m: f64| (big_n * m + w) / p - 0.5;
-        let row = |m: f64| (h - big_n * m) / p - 0.5;
+        let big_n = self.big_n;
+        self.film_box((big_n * x0, big_n * x1), (big_n * y0, big_n * y1))
+    }
+
+    /// The pixels some of whose rays (through any lens point) may run
+    /// towards a plane: those whose chief ray is not turned away from the
+    /// unit world direction `toward` by more than the spread and a margin
+    /// for rounding (2^-10), the spread being how far a lens ray turns from
+    /// its chief ray. A ray from the plane's side of the lens running away
+    /// from it never meets it. Columns `[0]..=[1]` and rows `[2]..=[3]`, a
+    /// pixel wider on each side; none where no chief ray comes near.
+    pub fn plane_pixels(&self, toward: [f64; 3]) -> [i16; 4] {
+        let angle = self.spread + 1.0 / 1024.0;
+        if angle >= core::f64::consts::FRAC_PI_2 {
+            return [i16::MIN, i16::MAX, i16::MIN, i16::MAX];
+        }
+        let [u, v, n] = self.basis;
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let ((w, h), big_n) = (self.half, self.big_n);
+        // The chief ray of film point (x, y) is x u + y v - N n, no longer
+        // than `longest`: it may reach the plane only where
+        // x (u · τ) + y (v · τ) > N (n · τ) - sin(angle) longest.
+        let longest = libm::sqrt(w * w + h * h + big_n * big_n);
+        let (a, b) = (dot(u, toward), dot(v, toward));
+        let c = big_n * dot(n, toward) - libm::sin(angle) * longest;
+        let inside = |x: f64, y: f64| a * x + b * y >= c;
+        // The film rectangle cut by that line: its corners inside, and
+        // where the line crosses its edges.
+        let mut points = heapless::Vec::<(f64, f64), 8>::new();
+        for (x, y) in [(-w, -h), (w, -h), (w, h), (-w, h)] {
+            if inside(x, y) {
+                let _ = points.push((x, y));
+            }
+        }
+        for y in [-h, h] {
+            if a != 0.0 {
+                let x = (c - b * y) / a;
+                if (-w..=w).contains(&x) {
+                    let _ = points.push((x, y));
+                }
+            }
+        }
+        for x in [-w, w] {
+            if b != 0.0 {
+                let y = (c - a * x) / b;
+                if (-h..=h).contains(&y) {
+                    let _ = points.push((x, y));
+                }
+            }
+        }
+        if points.is_empty() {
+            return [i16::MAX, i16::MIN, i16::MAX, i16::MIN];
+        }
+        let (mut x0, mut x1, mut y0, mut y1) = (w, -w, h, -h);
+        for &(x, y) in &points {
+            (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+        }
+        self.film_box((x0, x1), (y0, y1))
+    }
+
+    /// The pixels whose centres lie within film x in `xs` and y in `ys`
+    /// (film units, x right and y up from the film's centre), a pixel wider
+    /// on each side.
+    fn film_box(&self, xs: (f64, f64), ys: (f64, f64)) -> [i16; 4] {
+        // x_c = -W + p (c + 1/2) and y_r = H - p (r + 1/2).
+        let (p, (w, h)) = (self.pitch, self.half);
+        let col = |x: f64| (x + w) / p - 0.5;
+        let row = |y: f64| (h - y) / p - 0.5;
         let side = |lo: f64, hi: f64| {
             let clamp = |x: f64| x.clamp(-2.0, (MAX_IMAGE_SIDE + 2) as f64) as i16;
             (clamp(libm::floor(lo) - 1.0), clamp(libm::ceil(hi) + 1.0))
         };
-        let (c0, c1) = side(col(x0), col(x1));
-        let (r0, r1) = side(row(y1), row(y0));
+        let (c0, c1) = side(col(xs.0), col(xs.1));
+        let (r0, r1) = side(row(ys.1), row(ys.0));
         [c0, c1, r0, r1]
     }
 }

@@ -255,6 +255,11 @@ impl<S: Scalar> Affine<S> {
         )
     }
 
+    /// Row `i` (0 to 2) as held, `(a, b, c, t)` in `f64`. Set-up only.
+    pub(crate) fn row_f64(&self, i: usize) -> [f64; 4] {
+        S::row_to_f64(&self.rows[i.min(2)])
+    }
+
     /// Entry (`i`, `j`) of the linear part (rounded to `S`; `j` 0 to 2).
     #[inline]
     pub fn entry(&self, i: usize, j: usize) -> S {

@@ -479,6 +479,11 @@ impl Kernels for I16F16 {
     fn row_apply(row: &FixedRow, v: [Self; 3], affine: bool) -> Self {
         row.apply(v, affine)
     }
+    fn row_to_f64(row: &FixedRow) -> [f64; 4] {
+        let scale = pow2(row.shift);
+        let m = row.m.map(|x| x as f64 / scale);
+        [m[0], m[1], m[2], row.t as f64 / (scale * pow2(16))]
+    }
     // Out of line on the M0: rare (box-filtered checkers), one copy.
     #[cfg_attr(lensray_v6m, inline(never))]
     fn row_entry(row: &FixedRow, j: usize) -> Self {

@@ -179,6 +179,9 @@ impl Kernels for f32 {
             s
         }
     }
+    fn row_to_f64(row: &FloatRow) -> [f64; 4] {
+        [0, 1, 2, 3].map(|k| row.hi[k] as f64 + row.lo[k] as f64)
+    }
     fn row_entry(row: &FloatRow, j: usize) -> Self {
         row.hi[j % 3]
     }

@@ -145,6 +145,8 @@ mod kernels {
         fn row_apply(row: &Self::Row, v: [Self; 3], affine: bool) -> Self;
         /// The row's linear entry `j` (0 to 2: `a`, `b`, `c`), rounded to `Self`.
         fn row_entry(row: &Self::Row, j: usize) -> Self;
+        /// The row `(a, b, c, t)` exactly as held, in `f64`. Set-up only.
+        fn row_to_f64(row: &Self::Row) -> [f64; 4];
 
         /// The direction `M v` for the three rows of a matrix, as a unit vector
         /// with its length `|M v|` and, where that is below 1, the reciprocal

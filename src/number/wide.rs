@@ -591,9 +591,10 @@ impl RecipDiv {
 
 /// Division by a u32 on 32-bit cores with a 32 / 32 divide instruction but
 /// no 64-bit one (Cortex-M3/M4 `UDIV`, RV32IM `divu`): the runtime's
-/// `u64 / u64` routine costs some 100 instructions there, while a dividend
-/// of one word, or a divisor of 16 bits (three short divisions), takes one
-/// to three hardware divides; other cases go to the runtime.
+/// `u64 / u64` routine costs some 200 instructions there, while this takes
+/// one to four hardware divides: a dividend of one word in one, a divisor
+/// of 16 bits in three short divisions, and a wider divisor in base-2^16
+/// long division of the normalised divisor (Knuth's algorithm D).
 #[derive(Copy, Clone, Debug)]
 #[cfg_attr(not(lensray_hwdiv), allow(dead_code))]
 pub(crate) struct RecipHw {
@@ -631,8 +632,42 @@ impl RecipHw {
             let (q0, r) = (n0 / d, n0 % d);
             return (((q2 as u64) << 32) | ((q1 as u64) << 16) | q0 as u64, r);
         }
-        (n / d as u64, (n % d as u64) as u32)
+        let (q1, r) = (hi / d, hi % d);
+        let (q0, r) = div_2by1_digits(r, lo, d);
+        (((q1 as u64) << 32) | q0 as u64, r)
     }
+}
+
+/// `(u1 · 2^32 + u0) / d` and its remainder for `2^16 <= d` and `u1 < d` (the
+/// quotient fits a word), by two base-2^16 digits of the divisor shifted
+/// until its top bit is set, each digit from one word divide by the
+/// divisor's top half and corrected at most twice (Knuth's algorithm D).
+#[inline(always)]
+#[cfg_attr(not(lensray_hwdiv), allow(dead_code))]
+fn div_2by1_digits(u1: u32, u0: u32, d: u32) -> (u32, u32) {
+    let s = d.leading_zeros();
+    let dn = d << s;
+    let (dh, dl) = (dn >> 16, dn & 0xFFFF);
+    // u1:u0 << s as u32 (top, below d << s) and two 16-bit digits.
+    let top = if s == 0 { u1 } else { (u1 << s) | (u0 >> (32 - s)) };
+    let low = u0 << s;
+    // One digit of (rest · 2^16 + next) / dn, rest < dn: at most 2^16 - 1.
+    let digit = |rest: u32, next: u32| {
+        let (mut q, mut r) = (rest / dh, rest % dh);
+        // q overshoots by at most 2; once r reaches 2^16 the test below cannot hold.
+        while q >> 16 != 0 || q * dl > (r << 16 | next) {
+            q -= 1;
+            r += dh;
+            if r >> 16 != 0 {
+                break;
+            }
+        }
+        // rest · 2^16 + next - q · dn lies in [0, dn): exact in wrapping words.
+        (q, (rest << 16 | next).wrapping_sub(q.wrapping_mul(dn)))
+    };
+    let (q1, rest) = digit(top, low >> 16);
+    let (q0, rest) = digit(rest, low & 0xFFFF);
+    (q1 << 16 | q0, rest >> s)
 }
 
 /// A divisor prepared for exact division: [`RecipMul`] on a Cortex-M0,
@@ -1019,13 +1054,15 @@ mod tests {
         }
     }
 
-    /// `RecipMul`, `Recip`, `div_rem_u64_u32` and `div_rem_u64` against `/` and `%`.
+    /// `RecipMul`, `Recip`, `RecipHw`, `div_rem_u64_u32` and `div_rem_u64` against `/` and `%`.
     fn check_div(n: u64, d: u32) {
         let want = (n / d as u64, (n % d as u64) as u32);
         let r = RecipMul::new(d);
         assert_eq!(r.div_rem(n), want, "{n} / {d}");
         assert_eq!(r.divisor(), d);
         assert_eq!(Recip::new(d).div_rem(n), want, "{n} / {d}");
+        // The word-divide kernel of the Cortex-M3 and RV32, checked here on every host.
+        assert_eq!(RecipHw::new(d).div_rem(n), want, "{n} / {d}");
         assert_eq!(div_rem_u64_u32(n, d), want, "{n} / {d}");
         assert_eq!(div_rem_u64(n, d as u64), (want.0, want.1 as u64), "{n} / {d}");
     }

@@ -8,11 +8,16 @@
 //! towards c, where sin θ = (r + a) / |c − E|. So the test of an object's
 //! bounding sphere, a dozen products, becomes `d · axis < cos θ` for the
 //! objects the ray misses by a wide margin: most of them, for most rays.
+//!
+//! Each cone's directions, and each plane's half of the sky (a ray from the
+//! lens running away from a plane never meets it), are boxed on the film
+//! once per frame: a pixel out of an object's box skips it, and a pixel out
+//! of every box sees the background without casting a ray (docs/speed.md).
 
 use crate::camera::FilmFrame;
 use crate::geometry::vec3::Vec3;
 use crate::number::Scalar;
-use crate::scene::{Scene, MAX_OBJECTS};
+use crate::scene::{Object, Scene, MAX_OBJECTS};
 
 /// The cone of directions from the lens that can reach one object.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -23,8 +28,9 @@ struct Cone<S> {
     cos_min: S,
     /// Every direction may reach it (the plane; a lens inside the sphere).
     always: bool,
-    /// The pixels some of whose rays may pass `d · axis >= cos_min`:
-    /// columns `[0]..=[1]`, rows `[2]..=[3]` (every pixel where not known).
+    /// The pixels some of whose rays may pass `d · axis >= cos_min` (a
+    /// plane's: may run towards it): columns `[0]..=[1]`, rows `[2]..=[3]`
+    /// (every pixel where not known).
     pixels: [i16; 4],
 }
 
@@ -85,6 +91,7 @@ impl<S: Scalar> LensCones<S> {
         };
         let mut cones = heapless::Vec::new();
         for obj in &scene.objects {
+            let plane = film.map_or(ANY_PIXEL, |f| plane_pixels(obj, f, eye, radius));
             let terms = if pinhole { obj.plane_from_eye(eye) } else { None };
             if let Some([a, b, c, d]) = terms {
                 from_eye = true;
@@ -92,11 +99,11 @@ impl<S: Scalar> LensCones<S> {
                     axis: Vec3::new(a, b, c),
                     cos_min: d,
                     always: true,
-                    pixels: ANY_PIXEL,
+                    pixels: plane,
                 });
                 continue;
             }
-            let cone = obj.bound().map_or(every, |(centre, r)| {
+            let cone = obj.bound().map_or(Cone { pixels: plane, ..every }, |(centre, r)| {
                 let w = [0, 1, 2].map(|k| centre.to_f64()[k] - eye[k]);
                 let dist = libm::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
                 let reach = r.to_f64() + radius;
@@ -138,20 +145,45 @@ impl<S: Scalar> LensCones<S> {
     /// for a camera ray of `pixel` (column, row) where given, pixels outside
     /// the cone's box on the film are out of reach without the dot product. The box holds every pixel
     /// whose chief ray passes the dot product's test, rounding included
-    /// (docs/speed.md), so the answer is the same.
+    /// (docs/speed.md), so the answer is the same; a plane's box holds every
+    /// pixel some of whose rays run towards it.
     #[inline(always)]
     pub(crate) fn may_reach_pixel(&self, i: usize, d: Vec3<S>, pixel: Option<(i16, i16)>) -> bool {
         match self.cones.get(i) {
-            Some(c) => {
-                c.always
-                    || pixel.is_none_or(|(x, y)| {
-                        let [c0, c1, r0, r1] = c.pixels;
-                        c0 <= x && x <= c1 && r0 <= y && y <= r1
-                    }) && d.dot_inline(c.axis) >= c.cos_min
-            }
+            Some(c) => pixel.is_none_or(|p| in_box(c.pixels, p)) && (c.always || d.dot_inline(c.axis) >= c.cos_min),
             None => true,
         }
     }
+
+    /// Whether no camera ray of `pixel` (column, row) can reach any object:
+    /// the pixel lies outside every box, and sees the background.
+    #[inline]
+    pub(crate) fn reach_nothing(&self, pixel: (i16, i16)) -> bool {
+        !self.cones.iter().any(|c| in_box(c.pixels, pixel))
+    }
+}
+
+/// Whether `(x, y)` lies in the box `[c0, c1, r0, r1]`.
+#[inline(always)]
+fn in_box([c0, c1, r0, r1]: [i16; 4], (x, y): (i16, i16)) -> bool {
+    c0 <= x && x <= c1 && r0 <= y && y <= r1
+}
+
+/// A plane's box on `film`: where the lens (`radius` about `eye`) lies
+/// wholly on one side of it, 2^-10 to spare for rounding, the pixels some
+/// of whose rays run towards it ([`FilmFrame::plane_pixels`]); otherwise,
+/// and for other shapes, every pixel.
+fn plane_pixels<S: Scalar>(obj: &Object<S>, film: &FilmFrame, eye: [f64; 3], radius: f64) -> [i16; 4] {
+    let Some((n, k)) = obj.plane_f64() else {
+        return ANY_PIXEL;
+    };
+    let height = n[0] * eye[0] + n[1] * eye[1] + n[2] * eye[2] + k;
+    if height.is_nan() || height.abs() <= radius * (1.0 + 1e-9) + 1.0 / 1024.0 {
+        return ANY_PIXEL;
+    }
+    // From the lens towards the plane.
+    let toward = if height > 0.0 { n.map(|x| -x) } else { n };
+    film.plane_pixels(toward)
 }
 
 #[cfg(test)]
@@ -295,6 +327,97 @@ mod tests {
             "{} passed {passed}, boxed out {skipped} of {pairs}",
             S::NAME
         );
+    }
+
+    /// Every ray of a pixel outside a plane's box misses the plane, and
+    /// every ray of a pixel out of all boxes misses everything: random
+    /// cameras (pinholes and lenses, tilted, wide and narrow) over planes
+    /// turned every way, some scaled, with a sphere, both types. The boxes leave out a fair share.
+    fn plane_boxes_hold_every_hit<S: Scalar>() {
+        let mut next = crate::test_rng::unit_f64(0x9_1A4E);
+        let mut r = move |lo: f64, hi: f64| lo + (hi - lo) * next();
+        let (mut out, mut pairs, mut nothing, mut hits) = (0u32, 0u32, 0u32, 0u32);
+        for k in 0..48 {
+            let (cols, rows) = (r(8.0, 40.0) as u32, r(6.0, 30.0) as u32);
+            let big_n = r(2.0, 12.0);
+            let radius = if k % 2 == 0 { 0.0 } else { r(0.05, 2.0) };
+            let mut text = std::format!(
+                "width {}\nimage_distance {big_n}\nfocal_length {}\nradius {radius}\n\
+                 lens_position {} {} {}\nlook {} {} -1\nup {} 1 0\n",
+                r(2.0, 20.0),
+                r(0.2, 0.95) * big_n,
+                r(-3.0, 3.0),
+                r(-3.0, 3.0),
+                r(-3.0, 3.0),
+                r(-0.8, 0.8),
+                r(-0.8, 0.8),
+                r(-0.3, 0.3)
+            );
+            for _ in 0..2 {
+                let s = if r(0.0, 1.0) < 0.3 { r(0.01, 50.0) } else { 1.0 };
+                text += &std::format!(
+                    "object plane\nscale {s} {s} {s}\nrotate x {}\nrotate y {}\ntranslate {} {} {}\n",
+                    r(-180.0, 180.0),
+                    r(-180.0, 180.0),
+                    r(-6.0, 6.0),
+                    r(-6.0, 6.0),
+                    r(-6.0, 6.0)
+                );
+            }
+            text += &std::format!(
+                "object sphere\ntranslate {} {} {}\n",
+                r(-8.0, 8.0),
+                r(-8.0, 8.0),
+                r(-30.0, -5.0)
+            );
+            let scene = Scene::<S>::parse(&text).unwrap();
+            let renderer = crate::Renderer::new(&scene, cols, rows);
+            let cones = &renderer.s().cones;
+            for (col, row) in (0..rows).flat_map(|y| (0..cols).map(move |x| (x, y))) {
+                let pixel = (col as i16, row as i16);
+                let empty = cones.reach_nothing(pixel);
+                nothing += empty as u32;
+                let mut lens = [None; 6];
+                for l in lens.iter_mut().skip(1).filter(|_| radius > 0.0) {
+                    let (a, m) = (r(0.0, core::f64::consts::TAU), libm::sqrt(r(0.0, 1.0)).max(r(0.9, 1.0)));
+                    *l = Some(((libm::cos(a) * m * 32767.0) as i32, (libm::sin(a) * m * 32767.0) as i32));
+                }
+                for p_lens in lens {
+                    let ray = renderer.camera_ray(col, row, p_lens);
+                    for (i, obj) in scene.objects.iter().enumerate() {
+                        let eye = cones.plane_from_eye(i).filter(|_| p_lens.is_none());
+                        let hit = obj.intersect_from(ray.origin, ray.dir, ray.precise, S::HIT_EPSILON, S::MAX, eye);
+                        hits += hit.is_some() as u32;
+                        let boxed = in_box(cones.cones[i].pixels, pixel);
+                        assert!(
+                            boxed || hit.is_none(),
+                            "{text}pixel {pixel:?} lens {p_lens:?}: object {i} out of its box"
+                        );
+                        assert!(
+                            !empty || hit.is_none(),
+                            "{text}pixel {pixel:?} lens {p_lens:?}: object {i} met"
+                        );
+                    }
+                }
+                for (c, obj) in cones.cones.iter().zip(&scene.objects) {
+                    if obj.shape == crate::scene::shape::Shape::Plane {
+                        pairs += 1;
+                        out += !in_box(c.pixels, pixel) as u32;
+                    }
+                }
+            }
+        }
+        assert!(
+            out > pairs / 5 && nothing > 1000 && hits > 10_000,
+            "{}: {out} of {pairs} plane pairs boxed out, {nothing} empty pixels, {hits} hits",
+            S::NAME
+        );
+    }
+
+    #[test]
+    fn plane_boxes_skip_only_rays_that_miss() {
+        plane_boxes_hold_every_hit::<I16F16>();
+        plane_boxes_hold_every_hit::<f32>();
     }
 
     #[test]

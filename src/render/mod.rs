@@ -159,9 +159,15 @@ impl<'a, S: Scalar, P: Borrow<Setup<S>>> Renderer<'a, S, P> {
         let pixel = Some((col.min(MAX_IMAGE_SIDE) as i16, row.min(MAX_IMAGE_SIDE) as i16));
         let mut lens = PixelSamples::new(s.sampler, col, row);
         let stratified = s.sampler == Sampler::Stratified;
+        // Out of every object's box, each ray sees the background (the
+        // samples are the pixel's own: skipping them changes no other pixel).
+        let nothing = pixel.is_some_and(|p| s.cones.reach_nothing(p));
         // A cell's radius changes at the pixel's checks only.
         let mut cell = (0, S::ZERO);
         let cast = |strata: u32| {
+            if nothing {
+                return self.scene.background;
+            }
             let ray = s.camera.generate_ray(&CameraSample {
                 film: &film,
                 lens: Some(lens.next(s.camera.aperture())),
@@ -228,10 +234,14 @@ impl<'a, S: Scalar, P: Borrow<Setup<S>>> Renderer<'a, S, P> {
             None => s.camera.film_point(col, row),
         };
         *film = Some(f);
+        // The pixel's own: the cones' boxes skip what its chief ray cannot
+        // reach, and a pixel out of them all its chief ray.
+        let pixel = (col.min(MAX_IMAGE_SIDE) as i16, row.min(MAX_IMAGE_SIDE) as i16);
+        if s.cones.reach_nothing(pixel) {
+            return (self.scene.background, 1);
+        }
         let ray = s.camera.generate_ray(&CameraSample { film: &f, lens: None });
-        // The pixel's own: the cones' boxes skip what its chief ray cannot reach.
-        let pixel = Some((col.min(MAX_IMAGE_SIDE) as i16, row.min(MAX_IMAGE_SIDE) as i16));
-        (self.scene.trace_ray(&ray, Some(&s.cones), None, pixel), 1)
+        (self.scene.trace_ray(&ray, Some(&s.cones), None, Some(pixel)), 1)
     }
 
     /// [`Renderer::pixel_rays`] of a lens camera.

@@ -275,6 +275,15 @@ impl<S: Scalar> Object<S> {
             .flatten()
     }
 
+    /// A plane's world unit normal `n` and offset `k` as its rows hold them:
+    /// `n · p + k` is the signed distance of `p` (positive on the side the
+    /// object's z grows). `None` for other shapes or a degenerate row. Set-up only.
+    pub(crate) fn plane_f64(&self) -> Option<([f64; 3], f64)> {
+        let [a, b, c, t] = self.to_object.row_f64(2);
+        let len = libm::sqrt(a * a + b * b + c * c);
+        (self.shape == Shape::Plane && len > 0.0 && len.is_finite()).then(|| ([a / len, b / len, c / len], t / len))
+    }
+
     /// [`Object::intersect_dir`], with a plane's `eye` terms where the ray
     /// leaves from the pinhole they were computed for (a chief ray).
     pub(crate) fn intersect_from(
