@@ -267,8 +267,10 @@ where
         // Single pixels: stream the row as a plain render does.
         let area = Rectangle::new(at(0), Size::new(cols, 1));
         let mut rays = 0u64;
+        // A pinhole's film point stepped along the row, as a plain render does.
+        let mut film = None;
         let pixels = (0..cols).map(|col| {
-            let (c, n) = renderer.pixel_rays(col, row);
+            let (c, n) = renderer.pixel_rays_along(col, row, &mut film);
             rays += n as u64;
             D::Color::from(rgb(c))
         });
