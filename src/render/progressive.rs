@@ -278,8 +278,9 @@ where
         return Ok(rays);
     }
     let mut rays = 0;
-    for col in (0..cols).step_by(step as usize) {
-        if skip_in_row && col.is_multiple_of(step.saturating_mul(2)) {
+    // Block j starts at column j step: the coarser pass drew the even ones of a skipping row.
+    for (j, col) in (0..cols).step_by(step as usize).enumerate() {
+        if skip_in_row && j % 2 == 0 {
             continue;
         }
         let (c, n) = renderer.pixel_rays(col, row);

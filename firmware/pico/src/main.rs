@@ -164,11 +164,15 @@ fn main() -> ! {
     let Some(own) = cortex_m::singleton!(: bands::Recorder = bands::Recorder::new(size)) else {
         halt()
     };
+    // Core 0's record of the panel's even pixels, for bands sent whole (bands.rs).
+    let Some(shadow) = cortex_m::singleton!(: bands::Shadow = bands::Shadow::new(WIDTH)) else {
+        halt()
+    };
     let _core1 = two_cores::start_core1(work, &pac.PSM, &pac.PPB);
     // GP22 toggles as core 0 starts each band: a test point for timing bands.
     let mut band_marker = pins.gpio22.into_push_pull_output();
     let _ = led.set_high();
-    if two_cores::render(work, &mut display, own, || {
+    if two_cores::render(work, &mut display, own, shadow, || {
         let _ = band_marker.toggle();
     })
     .is_err()

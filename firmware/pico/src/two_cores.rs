@@ -16,7 +16,7 @@ use lensray::{Renderer, I16F16};
 use rp2040_hal::pac;
 use rp2040_hal::sio::Spinlock0;
 
-use crate::bands::{Bands, Recorder};
+use crate::bands::{Bands, Recorder, Shadow};
 
 /// What both cores render: set once by core 0 before core 1 starts.
 pub struct Work<'a> {
@@ -93,7 +93,7 @@ extern "C" fn core1_main() -> ! {
 /// already recorded and not of a later pass.
 fn take_over_core1<D: DrawTarget<Color = Rgb565>>(
     work: &Work,
-    display: &mut D,
+    (display, shadow): (&mut D, &mut Shadow),
     pass_index: usize,
     next: &mut usize,
 ) -> Result<(), D::Error> {
@@ -111,7 +111,7 @@ fn take_over_core1<D: DrawTarget<Color = Rgb565>>(
             // SAFETY: SLOT_READY is 1: core 1 is done writing this slot and
             // will not touch it before its SLOT_BAND clears.
             let recorder = unsafe { &(*core::ptr::addr_of!(CORE1_RECORDERS))[*next] };
-            let drawn = recorder.replay(display);
+            let drawn = recorder.replay(display, shadow);
             SLOT_READY[*next].store(0, Ordering::Relaxed);
             SLOT_BAND[*next].store(0, Ordering::Release);
             *next = (*next + 1) % SLOTS;
@@ -120,12 +120,14 @@ fn take_over_core1<D: DrawTarget<Color = Rgb565>>(
     }
 }
 
-/// Renders every band on this core and on core 1 if it runs, drawing all on `display`.
+/// Renders every band on this core and on core 1 if it runs, drawing all on
+/// `display`, whose even pixels `shadow` keeps (`Recorder::replay`).
 /// `marker` toggles at each band this core starts, for the harness's per-band timing.
 pub fn render<D: DrawTarget<Color = Rgb565>>(
     work: &'static Work<'static>,
     display: &mut D,
     own: &mut Recorder,
+    shadow: &mut Shadow,
     mut marker: impl FnMut(),
 ) -> Result<(), D::Error> {
     let mut next = 0;
@@ -135,12 +137,12 @@ pub fn render<D: DrawTarget<Color = Rgb565>>(
         own.clear();
         let _ = render_pass_row(&work.renderer, own, &band.pass, band.row);
         // Every band of an earlier pass is drawn before this one.
-        take_over_core1(work, display, band.pass_index, &mut next)?;
-        own.replay(display)?;
+        take_over_core1(work, (display, shadow), band.pass_index, &mut next)?;
+        own.replay(display, shadow)?;
     }
     marker();
     // Core 1's last bands, whatever their pass.
-    take_over_core1(work, display, usize::MAX, &mut next)
+    take_over_core1(work, (display, shadow), usize::MAX, &mut next)
 }
 
 /// Starts core 1 on `work` through the boot ROM's handshake (RP2040 datasheet
