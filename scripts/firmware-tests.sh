@@ -34,10 +34,11 @@ cargo clippy --release --features microbit,parse-on-device --target thumbv6m-non
 cargo clippy --release --features mps2-an385 --target thumbv7m-none-eabi -- -D warnings
 cargo clippy --release --features mps2-an386,hw-sqrt --target thumbv7em-none-eabihf -- -D warnings
 cargo clippy --release --features sifive-e --target riscv32imac-unknown-none-elf -- -D warnings
-cargo clippy --release -p lensray-pico --target thumbv6m-none-eabi -- -D warnings
+# The Pico from its own directory, whose .cargo/config.toml adds to this one's, as it is flashed.
+(cd pico && cargo clippy --release -p lensray-pico --target thumbv6m-none-eabi -- -D warnings)
 
 step "firmware: Raspberry Pi Pico with an ST7789 panel (the default build: Program 1, 320x240, 8 rays)"
-cargo build --release -p lensray-pico --target thumbv6m-none-eabi
+(cd pico && cargo build --release -p lensray-pico --target thumbv6m-none-eabi)
 "$size_tool" target/thumbv6m-none-eabi/release/lensray-pico
 
 step "firmware: under QEMU on every board, bit for bit against the host"

@@ -7,7 +7,7 @@
 #[allow(dead_code)]
 mod bands;
 
-use bands::{Bands, Recorder};
+use bands::{Bands, Recorder, Shadow};
 use embedded_graphics::mock_display::MockDisplay;
 use embedded_graphics::pixelcolor::Rgb565;
 use embedded_graphics::prelude::*;
@@ -23,6 +23,38 @@ fn scene(rng: &mut Rng) -> Scene<I16F16> {
         }
     }
     Scene::parse(include_str!("../../scenes/paper-program1.scene")).unwrap()
+}
+
+/// A panel that counts the windows drawn: `fill_solid` and `fill_contiguous` calls.
+struct Counting<'a> {
+    panel: &'a mut MockDisplay<Rgb565>,
+    windows: usize,
+}
+
+impl Dimensions for Counting<'_> {
+    fn bounding_box(&self) -> embedded_graphics::primitives::Rectangle {
+        self.panel.bounding_box()
+    }
+}
+
+impl DrawTarget for Counting<'_> {
+    type Color = Rgb565;
+    type Error = core::convert::Infallible;
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb565>>>(&mut self, pixels: I) -> Result<(), Self::Error> {
+        self.panel.draw_iter(pixels)
+    }
+    fn fill_solid(&mut self, area: &embedded_graphics::primitives::Rectangle, c: Rgb565) -> Result<(), Self::Error> {
+        self.windows += 1;
+        self.panel.fill_solid(area, c)
+    }
+    fn fill_contiguous<I: IntoIterator<Item = Rgb565>>(
+        &mut self,
+        area: &embedded_graphics::primitives::Rectangle,
+        colours: I,
+    ) -> Result<(), Self::Error> {
+        self.windows += 1;
+        self.panel.fill_contiguous(area, colours)
+    }
 }
 
 #[test]
@@ -57,9 +89,17 @@ fn bands_from_two_renderers_in_any_pass_ordered_interleaving_equal_the_plain_ren
 
         let mut panel = MockDisplay::<Rgb565>::new();
         panel.set_allow_overdraw(true);
+        let mut shadow = Box::new(Shadow::new(w));
+        let mut counting = Counting {
+            panel: &mut panel,
+            windows: 0,
+        };
         for (_, rec) in &recorded {
-            rec.replay(&mut panel).unwrap();
+            rec.replay(&mut counting, &mut shadow).unwrap();
         }
+        // Each band one window (none if it skipped every block), its skipped blocks sent again from the shadow.
+        let drawn = recorded.iter().filter(|(_, rec)| !rec.is_empty()).count();
+        assert_eq!(counting.windows, drawn, "case {case}");
         let mut plain = MockDisplay::<Rgb565>::new();
         render_with(&renderer, &mut plain).unwrap();
         assert_eq!(
@@ -77,11 +117,12 @@ fn drawing_a_later_pass_first_would_show() {
     let bands = Bands::new(Schedule::new(8, 1, 1), 24);
     let mut panel = MockDisplay::<Rgb565>::new();
     panel.set_allow_overdraw(true);
+    let mut shadow = Box::new(Shadow::new(32));
     for k in (0..bands.len()).rev() {
         let band = bands.get(k).unwrap();
         let mut rec = Recorder::new(Size::new(32, 24));
         render_pass_row(&renderer, &mut rec, &band.pass, band.row).unwrap();
-        rec.replay(&mut panel).unwrap();
+        rec.replay(&mut panel, &mut shadow).unwrap();
     }
     let mut plain = MockDisplay::<Rgb565>::new();
     render_with(&renderer, &mut plain).unwrap();

@@ -222,24 +222,27 @@ impl<'a, S: Scalar, P: Borrow<Setup<S>>> Renderer<'a, S, P> {
 
     /// [`Renderer::pixel_rays`] for a row's pixels in order: a pinhole's chief
     /// direction steps from the pixel to the left (`film`, carried from call
-    /// to call, `None` at a row's start), one addition where it took six products.
+    /// to call, `None` at a row's start or after an empty pixel), one
+    /// addition where it took six products.
     #[inline]
     fn pixel_rays_along(&self, col: u32, row: u32, film: &mut Option<FilmPoint<S>>) -> (Vec3<S>, u32) {
         let s = self.s();
         if !s.camera.is_pinhole() {
             return self.lens_pixel_rays(col, row);
         }
+        // The pixel's own: the cones' boxes skip what its chief ray cannot
+        // reach, and a pixel out of them all its chief ray and film point
+        // (the next pixel's is then made afresh).
+        let pixel = (col.min(MAX_IMAGE_SIDE) as i16, row.min(MAX_IMAGE_SIDE) as i16);
+        if s.cones.reach_nothing(pixel) {
+            *film = None;
+            return (self.scene.background, 1);
+        }
         let f = match film {
             Some(left) => s.camera.film_point_right_of(left, col, row),
             None => s.camera.film_point(col, row),
         };
         *film = Some(f);
-        // The pixel's own: the cones' boxes skip what its chief ray cannot
-        // reach, and a pixel out of them all its chief ray.
-        let pixel = (col.min(MAX_IMAGE_SIDE) as i16, row.min(MAX_IMAGE_SIDE) as i16);
-        if s.cones.reach_nothing(pixel) {
-            return (self.scene.background, 1);
-        }
         let ray = s.camera.generate_ray(&CameraSample { film: &f, lens: None });
         (self.scene.trace_ray(&ray, Some(&s.cones), None, Some(pixel)), 1)
     }

@@ -267,8 +267,10 @@ where
         // Single pixels: stream the row as a plain render does.
         let area = Rectangle::new(at(0), Size::new(cols, 1));
         let mut rays = 0u64;
+        // A pinhole's film point stepped along the row, as a plain render does.
+        let mut film = None;
         let pixels = (0..cols).map(|col| {
-            let (c, n) = renderer.pixel_rays(col, row);
+            let (c, n) = renderer.pixel_rays_along(col, row, &mut film);
             rays += n as u64;
             D::Color::from(rgb(c))
         });
@@ -276,8 +278,9 @@ where
         return Ok(rays);
     }
     let mut rays = 0;
-    for col in (0..cols).step_by(step as usize) {
-        if skip_in_row && col.is_multiple_of(step.saturating_mul(2)) {
+    // Block j starts at column j step: the coarser pass drew the even ones of a skipping row.
+    for (j, col) in (0..cols).step_by(step as usize).enumerate() {
+        if skip_in_row && j % 2 == 0 {
             continue;
         }
         let (c, n) = renderer.pixel_rays(col, row);

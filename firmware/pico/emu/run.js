@@ -194,40 +194,48 @@ export function bandPasses(height, count) {
   return null;
 }
 
+/** Core 1's recorders: two_cores.rs's `SLOTS` (the tests check they agree). */
+export const SLOTS = 2;
+
 /**
  * An estimate of the bands' time on two cores (ns), following two_cores.rs:
- * bands taken in order by whichever core asks first; core 1 hands each band
- * over and waits until core 0, between two of its own bands, draws it; core 0
- * waits for core 1's band before drawing one of a later pass. Each band costs
- * what it cost core 0 alone (render, record, draw on the panel), so core 1's
- * share is slightly overcounted (it does not draw) and core 0's drawing of
- * core 1's bands left out: an estimate, not a measurement.
+ * bands taken in order by whichever core asks first; core 1 records each band
+ * in the next of its `slots` recorders and goes on, waiting only when every
+ * slot holds a band core 0 has not drawn; core 0, between two of its own
+ * bands, draws core 1's recorded bands in order, and waits for core 1's band
+ * before drawing one of a later pass. Each band costs what it cost core 0
+ * alone (render, record, draw on the panel), so core 1's share is slightly
+ * overcounted (it does not draw) and core 0's drawing of core 1's bands left
+ * out: an estimate, not a measurement.
  */
-export function twoCores(durations, passes) {
+export function twoCores(durations, passes, slots = SLOTS) {
   const n = durations.length;
   let next = 0;
   let t0 = 0; // core 0's time
-  let core1 = null; // core 1's band in flight: { k, done }
+  const held = []; // core 1's bands not yet drawn, in order: { k, done }
   let core1Asks = 0; // when core 1 next asks for a band (null: none left)
   for (;;) {
-    // Core 1 takes the next band if it asks no later than core 0.
-    if (!core1 && core1Asks !== null && core1Asks <= t0) {
+    // Core 1 takes bands while it asks no later than core 0 and has a free slot.
+    while (core1Asks !== null && held.length < slots && core1Asks <= t0) {
       if (next < n) {
-        core1 = { k: next, done: core1Asks + durations[next] };
+        core1Asks += durations[next];
+        held.push({ k: next, done: core1Asks });
         next++;
       } else core1Asks = null;
     }
     if (next >= n) break;
     const k = next++;
     t0 += durations[k];
-    // Core 0 draws core 1's band now if it is of an earlier pass (waiting for it) or done.
-    if (core1 && (passes[core1.k] < passes[k] || core1.done <= t0)) {
-      t0 = Math.max(t0, core1.done);
-      core1 = null;
-      core1Asks = t0;
+    // Core 0 draws core 1's bands: each done by now, or of an earlier pass (waiting for it).
+    while (held.length && (passes[held[0].k] < passes[k] || held[0].done <= t0)) {
+      const full = held.length === slots;
+      t0 = Math.max(t0, held.shift().done);
+      // A slot freed: core 1, if it waited for one, asks now.
+      if (full && core1Asks !== null) core1Asks = Math.max(core1Asks, t0);
     }
   }
-  return core1 ? Math.max(t0, core1.done) : t0;
+  for (const band of held) t0 = Math.max(t0, band.done);
+  return t0;
 }
 
 /** SPI mode from SSPCR0's SPO (CPOL, bit 6) and SPH (CPHA, bit 7); rp2040js's own `spiMode` swaps 2 and 3. */

@@ -110,22 +110,162 @@ impl Recorder {
         }
     }
 
+    /// Whether nothing was recorded (a band all of whose blocks it skipped).
+    #[allow(dead_code)] // the host tests ask
+    pub fn is_empty(&self) -> bool {
+        self.block_count == 0 && self.run.is_none()
+    }
+
     /// Forgets what was recorded.
     pub fn clear(&mut self) {
         self.block_count = 0;
         self.run = None;
     }
 
-    /// Draws what was recorded, in the order it was drawn (blocks, then the run).
-    pub fn replay<D: DrawTarget<Color = Rgb565>>(&self, target: &mut D) -> Result<(), D::Error> {
+    /// Draws what was recorded on `target`, whose even pixels (both
+    /// coordinates even) `shadow` holds, and keeps `shadow` up to date.
+    ///
+    /// A band of blocks goes out as one window over the whole band, rows of
+    /// the image's width: a block the band skipped (it keeps a coarser
+    /// pass's colour, which its even top-left pixel shows) is sent again in
+    /// that colour from `shadow`. One window where a block each took one:
+    /// setting a window costs the panel's bus more than a small block's
+    /// pixels. Anything else is drawn as it was recorded.
+    pub fn replay<D: DrawTarget<Color = Rgb565>>(&self, target: &mut D, shadow: &mut Shadow) -> Result<(), D::Error> {
+        if let Some((area, step, colours, n)) = self.whole_band(shadow) {
+            let (width, colours) = (area.size.width as usize, &colours[..n]);
+            // One row of the band, each block's colour over its width; the
+            // band is that row again on each of its rows.
+            let mut row = [Rgb565::new(0, 0, 0); MAX_COLS];
+            for (pixels, c) in row[..width].chunks_mut(step).zip(colours) {
+                pixels.fill(*c);
+            }
+            let pixels = row[..width]
+                .iter()
+                .copied()
+                .cycle()
+                .take(width * area.size.height as usize);
+            target.fill_contiguous(&area, pixels)?;
+            for y in (area.top_left.y..area.top_left.y + area.size.height as i32).filter(|y| y % 2 == 0) {
+                shadow.paint_row(y, &row[..width]);
+            }
+            return Ok(());
+        }
         for (area, colour) in &self.blocks[..self.block_count] {
             target.fill_solid(area, *colour)?;
+            shadow.paint_blocks(area, area.size.width as usize, &[*colour]);
         }
         if let Some(area) = self.run {
             let n = area.size.width as usize;
             target.fill_contiguous(&area, self.run_pixels[..n].iter().copied())?;
+            shadow.paint_blocks(&area, 1, &self.run_pixels[..n]);
         }
         Ok(())
+    }
+
+    /// The band's whole area, its blocks' width, and each block's colour
+    /// (from `shadow` where the band skipped one) with their count, where
+    /// the recording is a band of blocks in order along one grid row, of one
+    /// width and height, each skipped one at an even pixel; `None` otherwise.
+    fn whole_band(&self, shadow: &Shadow) -> Option<(Rectangle, usize, [Rgb565; MAX_COLS], usize)> {
+        let blocks = &self.blocks[..self.block_count];
+        let first = blocks.first()?.0;
+        let (y, height, step) = (first.top_left.y, first.size.height, first.size.width as usize);
+        let width = self.size.width as usize;
+        if self.run.is_some() || step == 0 || y < 0 || width > MAX_COLS {
+            return None;
+        }
+        let mut colours = [Rgb565::new(0, 0, 0); MAX_COLS];
+        // Block `next` starts at pixel `at` of the row.
+        let (mut next, mut at) = (0, 0);
+        for (area, colour) in blocks {
+            let x = usize::try_from(area.top_left.x).ok()?;
+            while at < x && at < width {
+                colours[next] = shadow.get(at, y)?;
+                (next, at) = (next + 1, at + step);
+            }
+            let fits = at == x && x < width && area.top_left.y == y && area.size.height == height;
+            if !fits || area.size.width as usize != step.min(width - x) {
+                return None;
+            }
+            colours[next] = *colour;
+            (next, at) = (next + 1, at + step);
+        }
+        while at < width {
+            colours[next] = shadow.get(at, y)?;
+            (next, at) = (next + 1, at + step);
+        }
+        let area = Rectangle::new(Point::new(0, y), Size::new(width as u32, height));
+        Some((area, step, colours, next))
+    }
+}
+
+/// Even pixels of the panel (both coordinates even): what core 0 last drew
+/// there. A band that skips a block (it keeps a coarser pass's colour, and
+/// blocks start at even pixels) is sent whole with that block's colour from
+/// here. One entry per 2x2 pixels of the largest image, 51 KB.
+pub struct Shadow {
+    cols: usize,
+    colours: [Rgb565; SHADOW_LEN],
+}
+
+/// The shadow's entries: a quarter of a [`MAX_COLS`] x [`MAX_COLS`] image.
+pub const SHADOW_LEN: usize = (MAX_COLS / 2) * (MAX_COLS / 2);
+
+impl Shadow {
+    /// An all-black shadow for an image `width` pixels wide.
+    pub const fn new(width: u32) -> Self {
+        Shadow {
+            cols: (width as usize).div_ceil(2),
+            colours: [Rgb565::new(0, 0, 0); SHADOW_LEN],
+        }
+    }
+
+    /// The colour at even pixel (x, y); `None` for another pixel or one off the shadow.
+    fn get(&self, x: usize, y: i32) -> Option<Rgb565> {
+        self.index(x, y).map(|i| self.colours[i])
+    }
+
+    fn index(&self, x: usize, y: i32) -> Option<usize> {
+        if y < 0 || !x.is_multiple_of(2) || y % 2 != 0 || x / 2 >= self.cols {
+            return None;
+        }
+        let i = (y as usize / 2) * self.cols + x / 2;
+        (i < SHADOW_LEN).then_some(i)
+    }
+
+    /// Records row `y` of the panel, `pixels` from its left edge.
+    fn paint_row(&mut self, y: i32, pixels: &[Rgb565]) {
+        let Some(start) = self.index(0, y) else {
+            return;
+        };
+        let end = (start + self.cols).min(SHADOW_LEN);
+        for (entry, c) in self.colours[start..end].iter_mut().zip(pixels.iter().step_by(2)) {
+            *entry = *c;
+        }
+    }
+
+    /// Records what was drawn over `area`: blocks `step` wide from its left
+    /// edge, block `j` in `colours[j]` (the same colour down each column).
+    fn paint_blocks(&mut self, area: &Rectangle, step: usize, colours: &[Rgb565]) {
+        let (Ok(x0), y0) = (usize::try_from(area.top_left.x), area.top_left.y) else {
+            return;
+        };
+        if step == 0 {
+            return;
+        }
+        for y in (y0..y0 + area.size.height as i32).filter(|y| y % 2 == 0) {
+            // Block j spans pixels x0 + j step .. x0 + (j + 1) step.
+            let (mut j, mut end) = (0, x0 + step);
+            for x in (x0..x0 + area.size.width as usize).filter(|x| x.is_multiple_of(2)) {
+                while x >= end {
+                    (j, end) = (j + 1, end + step);
+                }
+                if let (Some(i), Some(c)) = (self.index(x, y), colours.get(j)) {
+                    self.colours[i] = *c;
+                }
+            }
+        }
     }
 }
 

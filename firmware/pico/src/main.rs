@@ -141,6 +141,31 @@ fn main() -> ! {
     };
     let _ = backlight.set_high();
 
+    let (work, own, shadow) = frame_work();
+    let _core1 = two_cores::start_core1(work, &pac.PSM, &pac.PPB);
+    // GP22 toggles as core 0 starts each band: a test point for timing bands.
+    let mut band_marker = pins.gpio22.into_push_pull_output();
+    let _ = led.set_high();
+    if two_cores::render(work, &mut display, own, shadow, || {
+        let _ = band_marker.toggle();
+    })
+    .is_err()
+    {
+        blink(&mut led, &mut timer)
+    }
+    let _ = led.set_low();
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+/// The scene parsed in place, the renderer and its bands in statics for both
+/// cores, core 0's recorder, and its record of the panel's even pixels.
+fn frame_work() -> (
+    &'static two_cores::Work<'static>,
+    &'static mut bands::Recorder,
+    &'static mut bands::Shadow,
+) {
     // In a static, for both cores; parsed in place: no second copy of the scene.
     let Some(scene) = cortex_m::singleton!(: Scene<I16F16> = Scene::default()) else {
         halt()
@@ -164,21 +189,11 @@ fn main() -> ! {
     let Some(own) = cortex_m::singleton!(: bands::Recorder = bands::Recorder::new(size)) else {
         halt()
     };
-    let _core1 = two_cores::start_core1(work, &pac.PSM, &pac.PPB);
-    // GP22 toggles as core 0 starts each band: a test point for timing bands.
-    let mut band_marker = pins.gpio22.into_push_pull_output();
-    let _ = led.set_high();
-    if two_cores::render(work, &mut display, own, || {
-        let _ = band_marker.toggle();
-    })
-    .is_err()
-    {
-        blink(&mut led, &mut timer)
-    }
-    let _ = led.set_low();
-    loop {
-        cortex_m::asm::wfi();
-    }
+    // Core 0's record of the panel's even pixels, for bands sent whole (bands.rs).
+    let Some(shadow) = cortex_m::singleton!(: bands::Shadow = bands::Shadow::new(WIDTH)) else {
+        halt()
+    };
+    (work, own, shadow)
 }
 
 /// Blinks the LED forever: something failed.

@@ -125,13 +125,14 @@ pub(crate) fn run(o: &EmulateArgs, scene_path: &Path, soft_sqrt: bool, timeout: 
     Ok(())
 }
 
-/// Builds the Pico firmware for this scene and size; its ELF copied into `dir`.
+/// Builds the Pico firmware for this scene and size, from its own directory
+/// (its `.cargo/config.toml` adds to the firmware's); its ELF copied into `dir`.
 fn build(firmware: &Path, dir: &Path, scene: &Path, width: u32, height: u32, rays: u32) -> Result<PathBuf, Fail> {
     // Runs in parallel share the target directory: one build at a time.
     let (target_dir, lock) = lock_target_dir(firmware)?;
     eprintln!("building the firmware for pico ({TARGET}) in {}", firmware.display());
     let built = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
-        .current_dir(firmware)
+        .current_dir(firmware.join("pico"))
         .args(["build", "--release", "-p", "lensray-pico", "--target", TARGET])
         .arg("--target-dir")
         .arg(&target_dir)

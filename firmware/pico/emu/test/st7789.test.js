@@ -4,6 +4,7 @@
 
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
 import { ST7789, PanelError, COLUMNS, ROWS } from '../st7789.js';
 
 /** A panel on a clock the test moves, past the reset's 5 ms. */
@@ -188,14 +189,21 @@ refuses('a picture while the display is off', (p) => {
 }, /display is off/);
 
 // The two-core estimate of run.js (not the panel, but pure arithmetic beside it).
-import { twoCores, bandPasses } from '../run.js';
+import { twoCores, bandPasses, SLOTS } from '../run.js';
 
-test('the two-core estimate: equal bands of one pass halve, one band does not, passes wait', () => {
+test('the two-core estimate: equal bands of one pass halve, one band does not, passes wait, two slots keep core 1 going', () => {
   assert.equal(twoCores([10, 10, 10, 10], [0, 0, 0, 0]), 20);
   assert.equal(twoCores([10], [0]), 10);
   // Core 1 takes the long band 0; core 0 cannot draw pass 1 before it is done, so it idles.
   assert.equal(twoCores([100, 1, 1, 1], [0, 0, 0, 0]), 100);
   assert.equal(twoCores([100, 1, 1, 1], [0, 1, 1, 1]), 101);
+  // With one slot core 1 waits for core 0's long band to end before its next; with two it goes on.
+  assert.equal(twoCores([1, 10, 1, 1], [0, 0, 0, 0], 1), 11);
+  assert.equal(twoCores([1, 10, 1, 1], [0, 0, 0, 0], 2), 10);
+  // The estimate's default is the firmware's slot count.
+  const slots = readFileSync(new URL('../../src/two_cores.rs', import.meta.url), 'utf8').match(/pub const SLOTS: usize = (\d+);/);
+  assert.ok(slots, 'two_cores.rs declares SLOTS');
+  assert.equal(SLOTS, Number(slots[1]));
   assert.deepEqual(bandPasses(16, 2 + 2 + 4 + 8 + 16), [0, 0, 1, 1, 2, 2, 2, 2, ...new Array(8).fill(3), ...new Array(16).fill(4)]);
   assert.equal(bandPasses(16, 5), null);
 });
