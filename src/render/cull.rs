@@ -254,6 +254,23 @@ mod tests {
         check::<f32>();
     }
 
+    /// A random camera's statements: film `big_n` from a lens of `radius`,
+    /// placed, turned and tilted at random, wide or narrow.
+    fn camera_text(r: &mut impl FnMut(f64, f64) -> f64, big_n: f64, radius: f64) -> std::string::String {
+        std::format!(
+            "width {}\nimage_distance {big_n}\nfocal_length {}\nradius {radius}\n\
+             lens_position {} {} {}\nlook {} {} -1\nup {} 1 0\n",
+            r(2.0, 20.0),
+            r(0.2, 0.95) * big_n,
+            r(-3.0, 3.0),
+            r(-3.0, 3.0),
+            r(-3.0, 3.0),
+            r(-0.8, 0.8),
+            r(-0.8, 0.8),
+            r(-0.3, 0.3)
+        )
+    }
+
     /// The pixel boxes hold every pixel some of whose rays (the chief ray,
     /// or lens rays through random lens points) pass its cone's dot-product
     /// test, so skipping the others changes nothing, and they leave out most
@@ -267,18 +284,7 @@ mod tests {
             let (cols, rows) = (r(8.0, 48.0) as u32, r(6.0, 36.0) as u32);
             let big_n = r(2.0, 12.0);
             let radius = if k % 2 == 0 { 0.0 } else { r(0.05, 2.5) };
-            let mut text = std::format!(
-                "width {}\nimage_distance {big_n}\nfocal_length {}\nradius {radius}\n\
-                 lens_position {} {} {}\nlook {} {} -1\nup {} 1 0\n",
-                r(2.0, 20.0),
-                r(0.2, 0.95) * big_n,
-                r(-3.0, 3.0),
-                r(-3.0, 3.0),
-                r(-3.0, 3.0),
-                r(-0.8, 0.8),
-                r(-0.8, 0.8),
-                r(-0.3, 0.3)
-            );
+            let mut text = camera_text(&mut r, big_n, radius);
             for _ in 0..6 {
                 let shape = ["sphere", "cube", "cylinder", "cone"][(r(0.0, 3.99)) as usize];
                 text += &std::format!(
@@ -341,18 +347,7 @@ mod tests {
             let (cols, rows) = (r(8.0, 40.0) as u32, r(6.0, 30.0) as u32);
             let big_n = r(2.0, 12.0);
             let radius = if k % 2 == 0 { 0.0 } else { r(0.05, 2.0) };
-            let mut text = std::format!(
-                "width {}\nimage_distance {big_n}\nfocal_length {}\nradius {radius}\n\
-                 lens_position {} {} {}\nlook {} {} -1\nup {} 1 0\n",
-                r(2.0, 20.0),
-                r(0.2, 0.95) * big_n,
-                r(-3.0, 3.0),
-                r(-3.0, 3.0),
-                r(-3.0, 3.0),
-                r(-0.8, 0.8),
-                r(-0.8, 0.8),
-                r(-0.3, 0.3)
-            );
+            let mut text = camera_text(&mut r, big_n, radius);
             for _ in 0..2 {
                 let s = if r(0.0, 1.0) < 0.3 { r(0.01, 50.0) } else { 1.0 };
                 text += &std::format!(
