@@ -166,6 +166,13 @@ fn emulate_and_compare(run: &Run) -> Outcome {
         stdout,
         seconds,
     };
+    check_report(run, &path, &outcome);
+    outcome
+}
+
+/// The report of `run` (its scene at `path`) describes that very run, with
+/// figures that agree with each other and with the board.
+fn check_report(run: &Run, path: &Path, outcome: &Outcome) {
     // The report describes this very run.
     assert_eq!(outcome.report.get("board").map(String::as_str), Some(run.board));
     assert_eq!(outcome.get("width"), run.width as u64);
@@ -174,9 +181,9 @@ fn emulate_and_compare(run: &Run) -> Outcome {
     // scene's `point` or `--samples`, 1 through a pinhole, fewer where the
     // pre-pass chose plain samples).
     let rays = if run.float {
-        host_rays::<f32>(&path, run)
+        host_rays::<f32>(path, run)
     } else {
-        host_rays::<I16F16>(&path, run)
+        host_rays::<I16F16>(path, run)
     };
     assert_eq!(outcome.get("rays"), rays as u64, "{}", outcome.stdout);
     let number = if run.float { f32::NAME } else { I16F16::NAME };
@@ -206,7 +213,6 @@ fn emulate_and_compare(run: &Run) -> Outcome {
         outcome.stdout
     );
     assert!(outcome.get("peak_stack") > 0 && outcome.get("flash") > 0);
-    outcome
 }
 
 /// A Markdown table of the runs, written beside the test's outputs (as

@@ -167,17 +167,7 @@ pub(crate) fn run(o: EmulateArgs) -> Result<(), Fail> {
         load_scene::<I16F16>(scene_path)?.camera.aspect_ratio
     };
     let (width, height) = image_size(&o.size, DEFAULT_WIDTH, aspect)?;
-    let out = match &o.out {
-        Some(p) => p.clone(),
-        None => {
-            let stem = scene_path.file_stem().ok_or("the scene path has no file name")?;
-            PathBuf::from(format!("{}-{}.bmp", stem.to_string_lossy(), board.name))
-        }
-    };
-    let format = Format::of(&out).ok_or_else(|| Fail(format!("{}: output must end in .bmp or .png", out.display())))?;
-    if out.is_dir() {
-        return Err(Fail(format!("{}: is a directory", out.display())));
-    }
+    let (out, format) = output_path(o.out.as_deref(), scene_path, board.name)?;
     let scene_abs = std::fs::canonicalize(scene_path).map_err(|e| Fail(format!("{}: {e}", scene_path.display())))?;
     let firmware = firmware_dir()?;
     missing_tools(&firmware, board.target, &[Tool::Qemu(board.qemu_program)])?;
@@ -198,18 +188,7 @@ pub(crate) fn run(o: EmulateArgs) -> Result<(), Fail> {
 
     eprintln!("running on {} under QEMU", board.name);
     let output = run_qemu(board, &elf, &work.0, Duration::from_secs(timeout as u64))?;
-    let report = parse_report(&output).ok_or_else(|| {
-        Fail(format!(
-            "the firmware on {} finished without its report; it said:\n{output}",
-            board.name
-        ))
-    })?;
-    if report_value::<u32>(&report, "stack_overflow")? != 0 {
-        return Err(Fail(format!(
-            "the stack on {} ran into the statics, so the image may be wrong; a smaller --width needs less. It said:\n{output}",
-            board.name
-        )));
-    }
+    let report = checked_report(board, &output)?;
     let rows = std::fs::read(work.0.join(ROWS_FILE))
         .map_err(|e| Fail(format!("the firmware's rows ({ROWS_FILE}) cannot be read: {e}")))?;
     let img = image_from_rows(&rows, width, height)?;
@@ -237,6 +216,41 @@ pub(crate) fn run(o: EmulateArgs) -> Result<(), Fail> {
         board.name
     );
     Ok(())
+}
+
+/// The output image's path (`out`, else SCENE-BOARD.bmp here) and format,
+/// refused if it names neither BMP nor PNG, or a directory.
+pub(crate) fn output_path(out: Option<&Path>, scene_path: &Path, board: &str) -> Result<(PathBuf, Format), Fail> {
+    let out = match out {
+        Some(p) => p.to_path_buf(),
+        None => {
+            let stem = scene_path.file_stem().ok_or("the scene path has no file name")?;
+            PathBuf::from(format!("{}-{board}.bmp", stem.to_string_lossy()))
+        }
+    };
+    let format = Format::of(&out).ok_or_else(|| Fail(format!("{}: output must end in .bmp or .png", out.display())))?;
+    if out.is_dir() {
+        return Err(Fail(format!("{}: is a directory", out.display())));
+    }
+    Ok((out, format))
+}
+
+/// The firmware's report from what it said on `board`; an error if there is
+/// none, or if its stack ran into the statics.
+fn checked_report(board: &Board, output: &str) -> Result<BTreeMap<String, String>, Fail> {
+    let report = parse_report(output).ok_or_else(|| {
+        Fail(format!(
+            "the firmware on {} finished without its report; it said:\n{output}",
+            board.name
+        ))
+    })?;
+    if report_value::<u32>(&report, "stack_overflow")? != 0 {
+        return Err(Fail(format!(
+            "the stack on {} ran into the statics, so the image may be wrong; a smaller --width needs less. It said:\n{output}",
+            board.name
+        )));
+    }
+    Ok(report)
 }
 
 /// A private directory for one run: the firmware's copy and QEMU's working

@@ -14,10 +14,10 @@ use std::time::Duration;
 
 use lensray::{Renderer, Scalar, I16F16};
 use lensray_host::panel::image_from_rgb565;
-use lensray_host::{encode, load_scene, write_atomic, Format};
+use lensray_host::{encode, load_scene, write_atomic, Image};
 
 use crate::cli::emulate::{
-    firmware_dir, lock_target_dir, missing_tools, run_bounded, EmulateArgs, Tool, WorkDir, DEFAULT_WIDTH,
+    firmware_dir, lock_target_dir, missing_tools, output_path, run_bounded, EmulateArgs, Tool, WorkDir, DEFAULT_WIDTH,
 };
 use crate::cli::opts::image_size;
 use crate::Fail;
@@ -45,17 +45,7 @@ pub(crate) fn run(o: &EmulateArgs, scene_path: &Path, soft_sqrt: bool, timeout: 
     }
     let renderer = Renderer::new_with_samples(&scene, width, height, o.size.samples);
     let rays = renderer.rays_per_pixel();
-    let out = match &o.out {
-        Some(p) => p.clone(),
-        None => {
-            let stem = scene_path.file_stem().ok_or("the scene path has no file name")?;
-            PathBuf::from(format!("{}-pico.bmp", stem.to_string_lossy()))
-        }
-    };
-    let format = Format::of(&out).ok_or_else(|| Fail(format!("{}: output must end in .bmp or .png", out.display())))?;
-    if out.is_dir() {
-        return Err(Fail(format!("{}: is a directory", out.display())));
-    }
+    let (out, format) = output_path(o.out.as_deref(), scene_path, "pico")?;
     let scene_abs = std::fs::canonicalize(scene_path).map_err(|e| Fail(format!("{}: {e}", scene_path.display())))?;
     let firmware = firmware_dir()?;
     let emu = firmware.join("pico/emu");
@@ -66,6 +56,37 @@ pub(crate) fn run(o: &EmulateArgs, scene_path: &Path, soft_sqrt: bool, timeout: 
     eprintln!("running on pico under rp2040js");
     let picture = work.0.join("panel.rgb565");
     let said = run_node(&emu, &elf, &picture, width, height, timeout)?;
+    let img = panel_picture(&picture, width, height)?;
+    let scene_name = scene_path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default();
+    report(&said, &scene_name, (width, height), rays)?;
+    let encoded = encode(&img, format)?;
+    write_atomic(&out, &encoded).map_err(|e| Fail(format!("{}: cannot write: {e}", out.display())))?;
+    eprintln!(
+        "wrote {} ({width}x{height}, as the pico's RGB 5-6-5 panel shows it)",
+        out.display()
+    );
+    Ok(())
+}
+
+/// The panel's picture as the harness wrote it (RGB 5-6-5 words, little-endian).
+fn panel_picture(picture: &Path, width: u32, height: u32) -> Result<Image, Fail> {
+    let bytes = std::fs::read(picture).map_err(|e| Fail(format!("the panel's picture cannot be read: {e}")))?;
+    let words: Vec<u16> = bytes
+        .chunks_exact(2)
+        .map(|w| u16::from_le_bytes([w[0], w[1]]))
+        .collect();
+    image_from_rgb565(&words, width, height).ok_or_else(|| {
+        Fail(format!(
+            "the panel's picture has {} bytes, not {}",
+            bytes.len(),
+            width * height * 2
+        ))
+    })
+}
+
+/// Prints the run's figures and its `report` line from the harness's
+/// summary (`said`, its line starting `emu `).
+fn report(said: &str, scene_name: &str, (width, height): (u32, u32), rays: u32) -> Result<(), Fail> {
     let line = said
         .lines()
         .find_map(|l| l.strip_prefix("emu "))
@@ -77,26 +98,12 @@ pub(crate) fn run(o: &EmulateArgs, scene_path: &Path, soft_sqrt: bool, timeout: 
             .and_then(|(_, v)| v.parse().ok())
             .ok_or_else(|| Fail(format!("the emulator's summary has no valid {key}: {line}")))
     };
-    let bytes = std::fs::read(&picture).map_err(|e| Fail(format!("the panel's picture cannot be read: {e}")))?;
-    let words: Vec<u16> = bytes
-        .chunks_exact(2)
-        .map(|w| u16::from_le_bytes([w[0], w[1]]))
-        .collect();
-    let img = image_from_rgb565(&words, width, height).ok_or_else(|| {
-        Fail(format!(
-            "the panel's picture has {} bytes, not {}",
-            bytes.len(),
-            width * height * 2
-        ))
-    })?;
-
     let frame = value("frame_cycles")?;
     let pixels = width as u64 * height as u64;
     let per_pixel = (frame + pixels / 2) / pixels;
     let seconds = frame as f64 / CLOCK_HZ;
     let two_cores = value("two_core_estimate_cycles")?;
     let two_seconds = two_cores as f64 / CLOCK_HZ;
-    let scene_name = scene_path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default();
     println!(
         "board pico (RP2040, Cortex-M0+ at 125 MHz, one core emulated), Q16.16, scene {scene_name}, {width}x{height}, {rays} rays per pixel, progressive passes on an ST7789"
     );
@@ -115,12 +122,6 @@ pub(crate) fn run(o: &EmulateArgs, scene_path: &Path, soft_sqrt: bool, timeout: 
         value("setup_cycles")?,
         value("spi_bytes")?,
         value("pixels_written")?,
-    );
-    let encoded = encode(&img, format)?;
-    write_atomic(&out, &encoded).map_err(|e| Fail(format!("{}: cannot write: {e}", out.display())))?;
-    eprintln!(
-        "wrote {} ({width}x{height}, as the pico's RGB 5-6-5 panel shows it)",
-        out.display()
     );
     Ok(())
 }
