@@ -143,51 +143,11 @@ fn footprints_on_stretched_slanted_planes_span_what_the_lens_disc_covers() {
         let b = o64.to_object.0;
         // World unit normal: row 2 of world → object (the plane is object z = 0).
         let nl = (b[2][0] * b[2][0] + b[2][1] * b[2][1] + b[2][2] * b[2][2]).sqrt();
-        let mut n = [b[2][0] / nl, b[2][1] / nl, b[2][2] / nl];
+        let n = [b[2][0] / nl, b[2][1] / nl, b[2][2] / nl];
         // A ray at least 25° off grazing, facing n's side.
-        let d = loop {
-            let v = [0, 1, 2].map(|_| rng(&mut s) * 2.0 - 1.0);
-            let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-            if l > 0.2 && l < 1.0 {
-                let d = v.map(|x| x / l);
-                let c = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
-                if c.abs() > 0.45 {
-                    if c > 0.0 {
-                        n = n.map(|x| -x);
-                    }
-                    break d;
-                }
-            }
-        };
-        let dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
-        // Two unit vectors across the ray.
-        let a = if d[0].abs() < 0.6 {
-            [1.0, 0.0, 0.0]
-        } else {
-            [0.0, 1.0, 0.0]
-        };
-        let cross = |x: [f64; 3], y: [f64; 3]| {
-            [
-                x[1] * y[2] - x[2] * y[1],
-                x[2] * y[0] - x[0] * y[2],
-                x[0] * y[1] - x[1] * y[0],
-            ]
-        };
-        let e1 = cross(d, a);
-        let l1 = (e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]).sqrt();
-        let e1 = e1.map(|x| x / l1);
-        let e2 = cross(d, e1);
+        let (d, n) = slanted_ray(&mut s, n);
         let w = 0.05 + 1.5 * rng(&mut s);
-        let mut half = [0.0f64; 2];
-        for i in 0..720 {
-            let th = i as f64 * std::f64::consts::PI / 360.0;
-            let x = [0, 1, 2].map(|k| w * (th.cos() * e1[k] + th.sin() * e2[k]));
-            let nx = x[0] * n[0] + x[1] * n[1] + x[2] * n[2];
-            let y = [0, 1, 2].map(|k| x[k] - d[k] * nx / dn);
-            for (k, h) in half.iter_mut().enumerate() {
-                *h = h.max((b[k][0] * y[0] + b[k][1] * y[1] + b[k][2] * y[2]).abs());
-            }
-        }
+        let half = rim_half_widths(&b, d, n, w);
         // The ray from 10 before the plane's object point (p, 0).
         let p = [rng(&mut s) * 8.0 - 4.0, rng(&mut s) * 8.0 - 4.0];
         let at = o64.to_world.apply([p[0], p[1], 0.0], true);
@@ -277,4 +237,58 @@ fn pinhole_renders_are_unfiltered() {
     for (x, y) in (0..30).flat_map(|y| (0..40).map(move |x| (x, y))) {
         assert_eq!(a.pixel(x, y), b.pixel(x, y));
     }
+}
+
+/// A unit direction at least 25° off grazing the plane of unit normal `n`,
+/// and `n` turned to face it (the side the ray comes from).
+fn slanted_ray(s: &mut u64, mut n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    loop {
+        let v = [0, 1, 2].map(|_| rng(s) * 2.0 - 1.0);
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        if l > 0.2 && l < 1.0 {
+            let d = v.map(|x| x / l);
+            let c = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+            if c.abs() > 0.45 {
+                if c > 0.0 {
+                    n = n.map(|x| -x);
+                }
+                break (d, n);
+            }
+        }
+    }
+}
+
+/// Half-widths in object x and y of a footprint: the disc of radius `w`
+/// across the ray `d`, projected along it onto the plane of unit normal `n`
+/// whose world → object rows are `b` (found by walking the disc's rim).
+fn rim_half_widths(b: &[[f64; 4]; 3], d: [f64; 3], n: [f64; 3], w: f64) -> [f64; 2] {
+    let dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+    // Two unit vectors across the ray.
+    let a = if d[0].abs() < 0.6 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
+    let cross = |x: [f64; 3], y: [f64; 3]| {
+        [
+            x[1] * y[2] - x[2] * y[1],
+            x[2] * y[0] - x[0] * y[2],
+            x[0] * y[1] - x[1] * y[0],
+        ]
+    };
+    let e1 = cross(d, a);
+    let l1 = (e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]).sqrt();
+    let e1 = e1.map(|x| x / l1);
+    let e2 = cross(d, e1);
+    let mut half = [0.0f64; 2];
+    for i in 0..720 {
+        let th = i as f64 * std::f64::consts::PI / 360.0;
+        let x = [0, 1, 2].map(|k| w * (th.cos() * e1[k] + th.sin() * e2[k]));
+        let nx = x[0] * n[0] + x[1] * n[1] + x[2] * n[2];
+        let y = [0, 1, 2].map(|k| x[k] - d[k] * nx / dn);
+        for (k, h) in half.iter_mut().enumerate() {
+            *h = h.max((b[k][0] * y[0] + b[k][1] * y[1] + b[k][2] * y[2]).abs());
+        }
+    }
+    half
 }

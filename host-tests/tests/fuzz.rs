@@ -93,50 +93,8 @@ fn fuzz_parser_and_renderer() {
     assert!(scenes >= 1, "no seed scenes found in scenes/");
     let mut fuzzer = Fuzzer::new(seed, corpus.into_iter().map(|(_, b)| b).collect());
 
-    let progress = Arc::new(AtomicU64::new(0));
-    let current = Arc::new(Mutex::new(Vec::new()));
-    watchdog(progress.clone(), current.clone(), Duration::from_secs(30));
-    // Panics are caught and reported below; their default message would only repeat them.
-    let hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
-
-    // Keywords that began a statement of an input that rendered: the renderer saw them.
-    let mut rendered_keywords: BTreeSet<Vec<u8>> = BTreeSet::new();
     let start = Instant::now();
-    let deadline = start
-        .checked_add(Duration::from_secs(secs))
-        .unwrap_or(start + Duration::from_secs(1 << 40));
-    let mut report_at = start + Duration::from_secs(300);
-    while fuzzer.stats.inputs < max_inputs {
-        // Reading the clock every 256 inputs keeps it off the profile.
-        if fuzzer.stats.inputs.is_multiple_of(256) {
-            let now = Instant::now();
-            if now >= deadline {
-                break;
-            }
-            if now >= report_at {
-                report_at = now + Duration::from_secs(300);
-                eprintln!(
-                    "fuzz: {} inputs, {} rendered, {} failures, {:.0} s",
-                    fuzzer.stats.inputs,
-                    fuzzer.stats.rendered,
-                    fuzzer.stats.failed,
-                    start.elapsed().as_secs_f64()
-                );
-            }
-        }
-        let input = fuzzer.next_input();
-        current.lock().unwrap().clone_from(&input);
-        let rendered = fuzzer.stats.rendered;
-        fuzzer.run_one(input);
-        if fuzzer.stats.rendered > rendered {
-            let input = current.lock().unwrap();
-            rendered_keywords.extend(statements(&input).map(<[u8]>::to_vec));
-        }
-        progress.store(fuzzer.stats.inputs, Ordering::Relaxed);
-    }
-    progress.store(u64::MAX, Ordering::Relaxed);
-    std::panic::set_hook(hook);
+    let rendered_keywords = run_for(&mut fuzzer, max_inputs, secs);
 
     let s = &fuzzer.stats;
     let elapsed = start.elapsed().as_secs_f64();
@@ -188,6 +146,57 @@ fn fuzz_parser_and_renderer() {
         s.inputs,
         s.kinds
     );
+}
+
+/// Runs `fuzzer` until `max_inputs` inputs or `secs` seconds, whichever is
+/// first, under a watchdog, with panics caught quietly (the fuzzer reports
+/// them); the keywords that began a statement of an input that rendered.
+fn run_for(fuzzer: &mut Fuzzer, max_inputs: u64, secs: u64) -> BTreeSet<Vec<u8>> {
+    let progress = Arc::new(AtomicU64::new(0));
+    let current = Arc::new(Mutex::new(Vec::new()));
+    watchdog(progress.clone(), current.clone(), Duration::from_secs(30));
+    // Panics are caught and reported below; their default message would only repeat them.
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+
+    // Keywords that began a statement of an input that rendered: the renderer saw them.
+    let mut rendered_keywords: BTreeSet<Vec<u8>> = BTreeSet::new();
+    let start = Instant::now();
+    let deadline = start
+        .checked_add(Duration::from_secs(secs))
+        .unwrap_or(start + Duration::from_secs(1 << 40));
+    let mut report_at = start + Duration::from_secs(300);
+    while fuzzer.stats.inputs < max_inputs {
+        // Reading the clock every 256 inputs keeps it off the profile.
+        if fuzzer.stats.inputs.is_multiple_of(256) {
+            let now = Instant::now();
+            if now >= deadline {
+                break;
+            }
+            if now >= report_at {
+                report_at = now + Duration::from_secs(300);
+                eprintln!(
+                    "fuzz: {} inputs, {} rendered, {} failures, {:.0} s",
+                    fuzzer.stats.inputs,
+                    fuzzer.stats.rendered,
+                    fuzzer.stats.failed,
+                    start.elapsed().as_secs_f64()
+                );
+            }
+        }
+        let input = fuzzer.next_input();
+        current.lock().unwrap().clone_from(&input);
+        let rendered = fuzzer.stats.rendered;
+        fuzzer.run_one(input);
+        if fuzzer.stats.rendered > rendered {
+            let input = current.lock().unwrap();
+            rendered_keywords.extend(statements(&input).map(<[u8]>::to_vec));
+        }
+        progress.store(fuzzer.stats.inputs, Ordering::Relaxed);
+    }
+    progress.store(u64::MAX, Ordering::Relaxed);
+    std::panic::set_hook(hook);
+    rendered_keywords
 }
 
 /// What a regression input must come to now, from its `# expect: rendered`
