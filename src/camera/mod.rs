@@ -270,37 +270,25 @@ impl FilmFrame {
         let longest = libm::sqrt(w * w + h * h + big_n * big_n);
         let (a, b) = (dot(u, toward), dot(v, toward));
         let c = big_n * dot(n, toward) - libm::sin(angle) * longest;
-        let inside = |x: f64, y: f64| a * x + b * y >= c;
-        // The film rectangle cut by that line: its corners inside, and
-        // where the line crosses its edges.
-        let mut points = heapless::Vec::<(f64, f64), 8>::new();
-        for (x, y) in [(-w, -h), (w, -h), (w, h), (-w, h)] {
-            if inside(x, y) {
-                let _ = points.push((x, y));
-            }
-        }
-        for y in [-h, h] {
-            if a != 0.0 {
-                let x = (c - b * y) / a;
-                if (-w..=w).contains(&x) {
-                    let _ = points.push((x, y));
-                }
-            }
-        }
-        for x in [-w, w] {
-            if b != 0.0 {
-                let y = (c - a * x) / b;
-                if (-h..=h).contains(&y) {
-                    let _ = points.push((x, y));
-                }
-            }
-        }
-        if points.is_empty() {
-            return [i16::MAX, i16::MIN, i16::MAX, i16::MIN];
-        }
-        let (mut x0, mut x1, mut y0, mut y1) = (w, -w, h, -h);
-        for &(x, y) in &points {
+        // The film rectangle cut by that line spans its corners inside and
+        // the points where the line crosses its edges.
+        let corners = [(-w, -h), (w, -h), (w, h), (-w, h)]
+            .into_iter()
+            .filter(|&(x, y)| a * x + b * y >= c);
+        let across = [-h, h]
+            .map(|y| ((c - b * y) / a, y))
+            .into_iter()
+            .filter(|p| (-w..=w).contains(&p.0));
+        let down = [-w, w]
+            .map(|x| (x, (c - a * x) / b))
+            .into_iter()
+            .filter(|p| (-h..=h).contains(&p.1));
+        let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+        for (x, y) in corners.chain(across).chain(down) {
             (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+        }
+        if x0 > x1 {
+            return [i16::MAX, i16::MIN, i16::MAX, i16::MIN];
         }
         self.film_box((x0, x1), (y0, y1))
     }

@@ -592,9 +592,9 @@ impl RecipDiv {
 /// Division by a u32 on 32-bit cores with a 32 / 32 divide instruction but
 /// no 64-bit one (Cortex-M3/M4 `UDIV`, RV32IM `divu`): the runtime's
 /// `u64 / u64` routine costs some 200 instructions there, while this takes
-/// one to four hardware divides: a dividend of one word in one, a divisor
-/// of 16 bits in three short divisions, and a wider divisor in base-2^16
-/// long division of the normalised divisor (Knuth's algorithm D).
+/// one hardware divide for a dividend of one word and three otherwise: the
+/// top word's, then base-2^16 long division of the rest by the normalised
+/// divisor (Knuth's algorithm D).
 #[derive(Copy, Clone, Debug)]
 #[cfg_attr(not(lensray_hwdiv), allow(dead_code))]
 pub(crate) struct RecipHw {
@@ -623,22 +623,13 @@ impl RecipHw {
         if hi == 0 {
             return ((lo / d) as u64, lo % d);
         }
-        if d >> 16 == 0 {
-            // Long division in 16-bit digits: each partial dividend r:digit is below d << 16.
-            let (q2, r) = (hi / d, hi % d);
-            let n1 = (r << 16) | (lo >> 16);
-            let (q1, r) = (n1 / d, n1 % d);
-            let n0 = (r << 16) | (lo & 0xFFFF);
-            let (q0, r) = (n0 / d, n0 % d);
-            return (((q2 as u64) << 32) | ((q1 as u64) << 16) | q0 as u64, r);
-        }
         let (q1, r) = (hi / d, hi % d);
         let (q0, r) = div_2by1_digits(r, lo, d);
         (((q1 as u64) << 32) | q0 as u64, r)
     }
 }
 
-/// `(u1 · 2^32 + u0) / d` and its remainder for `2^16 <= d` and `u1 < d` (the
+/// `(u1 · 2^32 + u0) / d` and its remainder for `0 < d` and `u1 < d` (the
 /// quotient fits a word), by two base-2^16 digits of the divisor shifted
 /// until its top bit is set, each digit from one word divide by the
 /// divisor's top half and corrected at most twice (Knuth's algorithm D).

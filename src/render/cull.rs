@@ -271,6 +271,17 @@ mod tests {
         )
     }
 
+    /// The chief ray (`None`) and, for a lens, five random lens points in
+    /// Q1.15, most near the rim.
+    fn lens_points(r: &mut impl FnMut(f64, f64) -> f64, radius: f64) -> [Option<(i32, i32)>; 6] {
+        let mut lens = [None; 6];
+        for l in lens.iter_mut().skip(1).filter(|_| radius > 0.0) {
+            let (a, m) = (r(0.0, core::f64::consts::TAU), libm::sqrt(r(0.0, 1.0)).max(r(0.9, 1.0)));
+            *l = Some(((libm::cos(a) * m * 32767.0) as i32, (libm::sin(a) * m * 32767.0) as i32));
+        }
+        lens
+    }
+
     /// The pixel boxes hold every pixel some of whose rays (the chief ray,
     /// or lens rays through random lens points) pass its cone's dot-product
     /// test, so skipping the others changes nothing, and they leave out most
@@ -303,11 +314,7 @@ mod tests {
             for (col, row) in (0..rows).flat_map(|y| (0..cols).map(move |x| (x, y))) {
                 let pixel = Some((col as i16, row as i16));
                 // The chief ray and lens points out to the rim (Q1.15).
-                let mut lens = [None; 6];
-                for l in lens.iter_mut().skip(1).filter(|_| radius > 0.0) {
-                    let (a, m) = (r(0.0, core::f64::consts::TAU), libm::sqrt(r(0.0, 1.0)).max(r(0.9, 1.0)));
-                    *l = Some(((libm::cos(a) * m * 32767.0) as i32, (libm::sin(a) * m * 32767.0) as i32));
-                }
+                let lens = lens_points(&mut r, radius);
                 for p_lens in lens {
                     let d = renderer.camera_ray(col, row, p_lens).dir;
                     for i in 0..scene.objects.len() {
@@ -372,11 +379,7 @@ mod tests {
                 let pixel = (col as i16, row as i16);
                 let empty = cones.reach_nothing(pixel);
                 nothing += empty as u32;
-                let mut lens = [None; 6];
-                for l in lens.iter_mut().skip(1).filter(|_| radius > 0.0) {
-                    let (a, m) = (r(0.0, core::f64::consts::TAU), libm::sqrt(r(0.0, 1.0)).max(r(0.9, 1.0)));
-                    *l = Some(((libm::cos(a) * m * 32767.0) as i32, (libm::sin(a) * m * 32767.0) as i32));
-                }
+                let lens = lens_points(&mut r, radius);
                 for p_lens in lens {
                     let ray = renderer.camera_ray(col, row, p_lens);
                     for (i, obj) in scene.objects.iter().enumerate() {

@@ -132,14 +132,9 @@ impl Recorder {
     /// setting a window costs the panel's bus more than a small block's
     /// pixels. Anything else is drawn as it was recorded.
     pub fn replay<D: DrawTarget<Color = Rgb565>>(&self, target: &mut D, shadow: &mut Shadow) -> Result<(), D::Error> {
-        if let Some((area, step, colours, n)) = self.whole_band(shadow) {
-            let (width, colours) = (area.size.width as usize, &colours[..n]);
-            // One row of the band, each block's colour over its width; the
-            // band is that row again on each of its rows.
-            let mut row = [Rgb565::new(0, 0, 0); MAX_COLS];
-            for (pixels, c) in row[..width].chunks_mut(step).zip(colours) {
-                pixels.fill(*c);
-            }
+        if let Some((area, row)) = self.whole_band(shadow) {
+            // The band is its one row again on each of its rows.
+            let width = area.size.width as usize;
             let pixels = row[..width]
                 .iter()
                 .copied()
@@ -163,11 +158,11 @@ impl Recorder {
         Ok(())
     }
 
-    /// The band's whole area, its blocks' width, and each block's colour
-    /// (from `shadow` where the band skipped one) with their count, where
-    /// the recording is a band of blocks in order along one grid row, of one
-    /// width and height, each skipped one at an even pixel; `None` otherwise.
-    fn whole_band(&self, shadow: &Shadow) -> Option<(Rectangle, usize, [Rgb565; MAX_COLS], usize)> {
+    /// The band's whole area and one row of it, each block's colour over its
+    /// width (from `shadow` where the band skipped one), where the recording
+    /// is a band of blocks in order along one grid row, of one width and
+    /// height, each skipped one at an even pixel; `None` otherwise.
+    fn whole_band(&self, shadow: &Shadow) -> Option<(Rectangle, [Rgb565; MAX_COLS])> {
         let blocks = &self.blocks[..self.block_count];
         let first = blocks.first()?.0;
         let (y, height, step) = (first.top_left.y, first.size.height, first.size.width as usize);
@@ -175,28 +170,29 @@ impl Recorder {
         if self.run.is_some() || step == 0 || y < 0 || width > MAX_COLS {
             return None;
         }
-        let mut colours = [Rgb565::new(0, 0, 0); MAX_COLS];
-        // Block `next` starts at pixel `at` of the row.
-        let (mut next, mut at) = (0, 0);
+        let mut row = [Rgb565::new(0, 0, 0); MAX_COLS];
+        // The next block starts at pixel `at` of the row.
+        let mut at = 0;
+        let mut fill = |at: usize, c: Rgb565| row[at..(at + step).min(width)].fill(c);
         for (area, colour) in blocks {
             let x = usize::try_from(area.top_left.x).ok()?;
             while at < x && at < width {
-                colours[next] = shadow.get(at, y)?;
-                (next, at) = (next + 1, at + step);
+                fill(at, shadow.get(at, y)?);
+                at += step;
             }
             let fits = at == x && x < width && area.top_left.y == y && area.size.height == height;
             if !fits || area.size.width as usize != step.min(width - x) {
                 return None;
             }
-            colours[next] = *colour;
-            (next, at) = (next + 1, at + step);
+            fill(at, *colour);
+            at += step;
         }
         while at < width {
-            colours[next] = shadow.get(at, y)?;
-            (next, at) = (next + 1, at + step);
+            fill(at, shadow.get(at, y)?);
+            at += step;
         }
         let area = Rectangle::new(Point::new(0, y), Size::new(width as u32, height));
-        Some((area, step, colours, next))
+        Some((area, row))
     }
 }
 
