@@ -9,6 +9,7 @@
 //! | `LENSRAY_SAMPLES` | rays per pixel, overriding the scene's `point` | the scene's |
 //! | `LENSRAY_FLOAT` | `1`: render in f32 instead of Q16.16 | Q16.16 |
 //! | `LENSRAY_FAULT` | `panic` or `hardfault`: fail on purpose (tests) | none |
+//! | `LENSRAY_CHECK` | `kernels`: check the Cortex-M0's Thumb-1 kernels against the portable Rust first (tests) | none |
 //!
 //! The scene is parsed here too, so a bad scene fails the build with
 //! `FILE:LINE: message` rather than on the board. By default it is also set
@@ -142,6 +143,11 @@ fn main() {
         Some("hardfault") => "hardfault",
         Some(v) => fail(&format!("LENSRAY_FAULT={v}: must be panic or hardfault")),
     };
+    let check = match var("LENSRAY_CHECK").as_deref() {
+        None => false,
+        Some("kernels") => true,
+        Some(v) => fail(&format!("LENSRAY_CHECK={v}: must be kernels")),
+    };
 
     // What goes into flash: the scene's text to parse on the device, or by
     // default its set-up for this image size, baked.
@@ -182,6 +188,8 @@ fn main() {
          pub type Number = {number};\n\
          /// A failure on purpose, for the tests: \"\", \"panic\" or \"hardfault\".\n\
          pub const FAULT: &str = {fault:?};\n\
+         /// Check the Thumb-1 kernels against the portable Rust before rendering.\n\
+         pub const CHECK_KERNELS: bool = {check};\n\
          /// The report line's start: board, number type, square root, size, scene form.\n\
          pub const REPORT_HEAD: &str = {report_head:?};\n",
         scene_txt = out.join("scene.bin").display().to_string(),

@@ -98,3 +98,20 @@ mod range_tests;
 mod test_rng;
 #[cfg(test)]
 mod tests;
+
+/// On a Cortex-M0 build, runs its Thumb-1 kernels against the portable Rust
+/// on the edge values and `pairs` pseudo-random pairs: the first pair that
+/// differs, as the kernel's name and the two factors. Elsewhere there are no
+/// such kernels: `None`. For the firmware's own test (`LENSRAY_CHECK=kernels`).
+#[doc(hidden)]
+pub fn check_thumb1_kernels(pairs: u32) -> Option<(&'static str, i64, i64)> {
+    #[cfg(lensray_v6m)]
+    {
+        number::thumb1::check(pairs)
+    }
+    #[cfg(not(lensray_v6m))]
+    {
+        let _ = pairs;
+        None
+    }
+}

@@ -7,7 +7,8 @@
 //! (the file `lensray-rows.rgb` in QEMU's working directory), reports the
 //! instructions it took (run under `-icount shift=0`) and its memory use, and
 //! exits with status 0. Any error exits non-zero: 1 for the host's file calls,
-//! 2 for a bad scene, 3 for a HardFault, 4 for an unexpected interrupt, 101 for
+//! 2 for a bad scene, 3 for a HardFault, 4 for an unexpected interrupt, 5 for a
+//! Thumb-1 kernel that differs from the portable Rust (`LENSRAY_CHECK`), 101 for
 //! a panic. It never waits for anything, so it never hangs.
 //!
 //! The scene, image size, sample count and number type are fixed at build
@@ -131,6 +132,9 @@ fn main() -> ! {
         "hardfault" => fault(),
         _ => {}
     }
+    if CHECK_KERNELS {
+        check_kernels(&mut console);
+    }
     let counter = counter();
 
     #[cfg(feature = "profile")]
@@ -178,6 +182,24 @@ fn main() -> ! {
 
     let rays = renderer.rays_per_pixel();
     report(&paint, &mut console, rays, [t0, t1, t2, t3], calibration)
+}
+
+/// Runs the library's Thumb-1 kernels against its portable Rust on the
+/// board (`LENSRAY_CHECK=kernels`); exits 5 at the first pair that differs.
+#[inline(never)]
+fn check_kernels(console: &mut HostFile) {
+    const PAIRS: u32 = 100_000;
+    if let Some((kernel, a, b)) = lensray::check_thumb1_kernels(PAIRS) {
+        console.text(kernel).text(" differs from the portable Rust at ");
+        let sign = |x: i64| if x < 0 { "-" } else { "" };
+        console.text(sign(a)).num(a.unsigned_abs()).text(", ");
+        console.text(sign(b)).num(b.unsigned_abs()).text("\n");
+        exit(5)
+    }
+    console
+        .text("kernels match the portable Rust on ")
+        .num(PAIRS as u64)
+        .text(" pairs\n");
 }
 
 /// Writes the report and exits; out of line, so that the report's values

@@ -73,7 +73,8 @@ fn emulate_cmd(run: &Run, out: &Path) -> Command {
         .args(["--width", &run.width.to_string(), "--height", &run.height.to_string()])
         .arg("-o")
         .arg(out)
-        .env_remove("LENSRAY_FAULT");
+        .env_remove("LENSRAY_FAULT")
+        .env_remove("LENSRAY_CHECK");
     if let Some(n) = run.samples {
         cmd.args(["--samples", &n.to_string()]);
     }
@@ -266,13 +267,13 @@ fn program1_pinhole(board: &str) -> &'static str {
 const MICROBIT_FLASH: u64 = 40 * 1024;
 
 /// The micro:bit's ceiling for Program 1 through a pinhole, instructions a
-/// pixel at 160x120: 6,376 measured (BENCHMARKS.md) with a few percent for
+/// pixel at 160x120: 5,846 measured (BENCHMARKS.md) with a few percent for
 /// toolchain drift. The build is for size (firmware/Cargo.toml's `microbit`
 /// profile, the default build held to 40 KiB of flash), with the Cortex-M0's
-/// products, divisions and bit counts in one out-of-line copy each
-/// (src/number/wide.rs); the exact retakes of docs/fixed-point.md run on
-/// every board.
-const MICROBIT_PINHOLE: u64 = 6600;
+/// products and bit counts in Thumb-1 (src/number/thumb1.rs) and its
+/// divisions in one out-of-line copy each (src/number/wide.rs); the exact
+/// retakes of docs/fixed-point.md run on every board.
+const MICROBIT_PINHOLE: u64 = 6100;
 
 /// Program 1's adaptive frame at `width` x `height` and `samples` on the
 /// host: its stop rule (the pre-pass in `Renderer::new`), checked to be
@@ -522,6 +523,36 @@ fn emulate_fault(board: &str, fault: &str) -> Output {
         .expect("run lensray emulate");
     assert!(!out.exists(), "an image was written for a failed run");
     o
+}
+
+/// The Cortex-M0's Thumb-1 kernels (the library's `number::thumb1`) compute
+/// what the portable Rust computes, on the board: edge values and 100,000
+/// pseudo-random pairs of every magnitude (exit status 5 names the first
+/// pair that differs).
+#[test]
+#[ignore = "needs qemu-system-arm and thumbv6m-none-eabi; run by scripts/firmware-tests.sh"]
+fn microbit_thumb1_kernels_match_the_portable_rust() {
+    let run = Run {
+        board: "microbit",
+        scene: PINHOLE,
+        width: 8,
+        height: 6,
+        samples: None,
+        float: false,
+        soft_sqrt: false,
+    };
+    let out = tmp("thumb1-kernels.bmp");
+    let o = emulate_cmd(&run, &out)
+        .env("LENSRAY_CHECK", "kernels")
+        .output()
+        .expect("run lensray emulate");
+    assert!(o.status.success(), "{}", show(&o));
+    let said = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        said.contains("kernels match the portable Rust on 100000 pairs"),
+        "{}",
+        show(&o)
+    );
 }
 
 #[test]

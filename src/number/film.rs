@@ -9,7 +9,7 @@
 
 use crate::number::plane::{below_q16, round_f64, unit_mantissas};
 use crate::number::q16::{shr_round, shr_round_call, FixedDir};
-use crate::number::wide::{bits_u64_inline, mul_i32_short};
+use crate::number::wide::{bits_u64, mul_i32_short};
 use fixed::types::I16F16;
 
 /// The map's exact parts, from the camera's set-up (world space).
@@ -203,7 +203,7 @@ impl FixedFilmMap {
         let mut d = if g == 0 { w } else { w.map(|x| shr_round(x, g)) };
         if d.iter().all(|x| x.unsigned_abs() < 1 << 29) && g > 0 {
             let big = w.iter().map(|x| x.unsigned_abs()).max().unwrap_or(0);
-            let keep = bits_u64_inline(big).saturating_sub(31).min(g);
+            let keep = bits_u64(big).saturating_sub(31).min(g);
             // Rare: through one out-of-line copy of the rounding shift.
             d = if keep == 0 {
                 w

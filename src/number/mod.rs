@@ -31,6 +31,8 @@ pub(crate) mod plane;
 mod q16;
 pub(crate) mod quadric;
 mod scalar;
+#[cfg(lensray_v6m)]
+pub(crate) mod thumb1;
 pub(crate) mod wide;
 
 pub(crate) use q16::{Decided, CONE, CUBE, CYLINDER, FLAT, HIGH_CAP, LOW_CAP, ROUND, SIDE};

@@ -10,8 +10,7 @@
 
 use crate::number::q16::{shr_round, side_bits, FixedDir, FixedRow};
 use crate::number::wide::{
-    bits_u64, bits_u64_inline, div_pow2_u32, div_rem_u64, isqrt_rem_u64, mul_i32, mul_i32_inline, mul_i64,
-    mul_u32_inline, sar64,
+    bits_u64, div_pow2_u32, div_rem_u64, isqrt_rem_u64, mul_i32, mul_i32_inline, mul_i64, mul_u32_inline, sar64,
 };
 use fixed::types::I16F16;
 
@@ -20,7 +19,7 @@ use fixed::types::I16F16;
 #[cfg_attr(lensray_v6m, inline(always))]
 #[cfg_attr(not(lensray_v6m), inline)]
 fn bits(x: u64) -> u32 {
-    bits_u64_inline(x)
+    bits_u64(x)
 }
 
 /// `row · m` exactly, at scale `2^-(30 + row.shift)` for mantissas at `2^-30`.

@@ -31,14 +31,20 @@ pub(crate) fn mul_i32_halves(a: i32, b: i32) -> i64 {
     (((a1 * b1) as i64) << 32) + (mid << 16) + (a0 * b0) as i64
 }
 
-/// `a · b` exactly, as i64: on the M0 one out-of-line copy of
-/// [`mul_i32_inline`] (in place at its some fifty sites it took 2 KB of its
-/// flash); the per-ray kernels that exist once (square root, division,
-/// normalisation) keep it in place.
-#[cfg_attr(lensray_v6m, inline(never))]
-#[cfg_attr(not(lensray_v6m), inline(always))]
+/// `a · b` exactly, as i64: on the M0 a call to the Thumb-1 routine (in
+/// place at its some fifty sites it took 2 KB of its flash); the per-ray
+/// kernels that exist once (square root, division, normalisation) keep
+/// [`mul_i32_inline`] in place.
+#[inline(always)]
 pub(crate) fn mul_i32(a: i32, b: i32) -> i64 {
-    mul_i32_inline(a, b)
+    #[cfg(lensray_v6m)]
+    {
+        super::thumb1::mul_i32(a, b)
+    }
+    #[cfg(not(lensray_v6m))]
+    {
+        a as i64 * b as i64
+    }
 }
 
 /// `a · b` exactly, as i64, in place.
@@ -91,25 +97,8 @@ pub(crate) fn mul_u32_inline(a: u32, b: u32) -> u64 {
     }
 }
 
-/// `a · b` for i64 factors whose product fits an i64 (the caller's promise,
-/// as for `*`): through [`mul_u32_halves`] when both magnitudes fit 32 bits.
-#[inline(always)]
-#[cfg_attr(not(lensray_v6m), allow(dead_code))]
-pub(crate) fn mul_i64_halves(a: i64, b: i64) -> i64 {
-    // Both within an i32 (the usual case): signed halves, no signs to take off and put back.
-    if a as i32 as i64 == a && b as i32 as i64 == b {
-        return mul_i32_halves(a as i32, b as i32);
-    }
-    let (ua, ub) = (a.unsigned_abs(), b.unsigned_abs());
-    if (ua | ub) >> 32 == 0 {
-        let p = mul_u32_halves(ua as u32, ub as u32) as i64;
-        return if (a ^ b) < 0 { -p } else { p };
-    }
-    a.wrapping_mul(b)
-}
-
-/// `a · b` for u64 factors whose product fits a u64, as [`mul_i64_halves`];
-/// with one factor of 32 bits, two products.
+/// `a · b` for u64 factors whose product fits a u64 (the caller's promise,
+/// as for `*`): with one factor of 32 bits, two products from halves.
 #[inline(always)]
 #[cfg_attr(not(lensray_v6m), allow(dead_code))]
 pub(crate) fn mul_u64_halves(a: u64, b: u64) -> u64 {
@@ -121,14 +110,13 @@ pub(crate) fn mul_u64_halves(a: u64, b: u64) -> u64 {
     a.wrapping_mul(b)
 }
 
-/// `a · b` for i64 factors whose product fits an i64.
-// One copy on the M0: in place at its dozen sites it took 470 bytes of its flash.
-#[cfg_attr(lensray_v6m, inline(never))]
-#[cfg_attr(not(lensray_v6m), inline(always))]
+/// `a · b` for i64 factors whose product fits an i64: on the M0 a call to
+/// the Thumb-1 routine.
+#[inline(always)]
 pub(crate) fn mul_i64(a: i64, b: i64) -> i64 {
     #[cfg(lensray_v6m)]
     {
-        mul_i64_halves(a, b)
+        super::thumb1::mul_i64(a, b)
     }
     #[cfg(not(lensray_v6m))]
     {
@@ -151,58 +139,15 @@ pub(crate) fn mul_u64(a: u64, b: u64) -> u64 {
     }
 }
 
-/// Leading zeros of each byte value (8 for 0): the last step of [`clz32_search`].
-#[cfg_attr(not(lensray_v6m), allow(dead_code))]
-const CLZ8: [u8; 256] = {
-    let mut t = [0u8; 256];
-    let mut i = 0;
-    while i < 256 {
-        t[i] = (i as u8).leading_zeros() as u8;
-        i += 1;
-    }
-    t
-};
-
-/// Leading zeros of a u32 by two halving steps and a byte table, inline: on a
-/// Cortex-M0 (no `CLZ`) `leading_zeros` calls `__clzsi2`, some 30 instructions.
-#[inline(always)]
-#[cfg_attr(not(lensray_v6m), allow(dead_code))]
-fn clz32_search(mut x: u32) -> u32 {
-    let mut n = 0;
-    if x >> 16 == 0 {
-        n += 16;
-        x <<= 16;
-    }
-    if x >> 24 == 0 {
-        n += 8;
-        x <<= 8;
-    }
-    // 0 reaches here as 0 with n = 24, and CLZ8[0] = 8.
-    n + CLZ8[(x >> 24) as usize] as u32
-}
-
 /// Bits needed for a u64 (0 for 0): `64 - leading_zeros`, without a library
 /// call on the Cortex-M0.
 #[inline(always)]
 pub(crate) fn bits_u64(x: u64) -> u32 {
-    bits_u64_by(x, clz32_call)
-}
-
-/// [`bits_u64`] for the per-ray paths (the camera ray's direction, the
-/// plane's hit): [`clz32`], the same out-of-line count on the M0.
-#[inline(always)]
-pub(crate) fn bits_u64_inline(x: u64) -> u32 {
-    bits_u64_by(x, clz32)
-}
-
-/// `64 - leading_zeros` of `x` from a 32-bit count `clz` (called or in place).
-#[inline(always)]
-fn bits_u64_by(x: u64, clz: impl Fn(u32) -> u32) -> u32 {
     let hi = (x >> 32) as u32;
     if hi != 0 {
-        64 - clz(hi)
+        64 - clz32(hi)
     } else {
-        32 - clz(x as u32)
+        32 - clz32(x as u32)
     }
 }
 
@@ -235,28 +180,13 @@ pub(crate) fn sar64(x: i64, s: u32) -> i64 {
     }
 }
 
-/// Leading zeros of a u32: on the M0 one out-of-line copy of the binary
-/// search (in place at its nine sites it took 650 bytes of its flash, for
-/// some 35 instructions a pixel).
+/// Leading zeros of a u32: on the M0 (no `CLZ`) a call to the Thumb-1
+/// routine, where `leading_zeros` calls `__clzsi2`, some 30 instructions.
 #[inline(always)]
 fn clz32(x: u32) -> u32 {
     #[cfg(lensray_v6m)]
     {
-        clz32_call(x)
-    }
-    #[cfg(not(lensray_v6m))]
-    {
-        x.leading_zeros()
-    }
-}
-
-/// [`clz32`]'s one out-of-line copy on the M0.
-#[cfg_attr(lensray_v6m, inline(never))]
-#[cfg_attr(not(lensray_v6m), inline(always))]
-fn clz32_call(x: u32) -> u32 {
-    #[cfg(lensray_v6m)]
-    {
-        clz32_search(x)
+        super::thumb1::clz32(x)
     }
     #[cfg(not(lensray_v6m))]
     {
@@ -828,21 +758,6 @@ mod tests {
     }
 
     #[test]
-    fn leading_zeros_by_search() {
-        for b in 0..32 {
-            for x in [1u32 << b, (1u32 << b) | 1, ((1u64 << (b + 1)) - 1) as u32] {
-                assert_eq!(clz32_search(x), x.leading_zeros(), "{x}");
-            }
-        }
-        assert_eq!(clz32_search(0), 32);
-        let mut r = rng(29);
-        for _ in 0..100_000 {
-            let x = (r() as u32) >> (r() % 32);
-            assert_eq!(clz32_search(x), x.leading_zeros(), "{x}");
-        }
-    }
-
-    #[test]
     fn halves_multiply_exactly() {
         let edges = [
             0u32,
@@ -860,8 +775,6 @@ mod tests {
                 assert_eq!(mul_u32_halves(a, b), a as u64 * b as u64, "{a} * {b}");
                 let (x, y) = (a as i32, b as i32);
                 assert_eq!(mul_i32_halves(x, y), x as i64 * y as i64, "{x} * {y}");
-                assert_eq!(mul_i64_halves(x as i64, y as i64), x as i64 * y as i64, "{x} * {y}");
-                assert_eq!(mul_i64_halves(a as i64, y as i64), a as i64 * y as i64, "{a} * {y}");
             }
         }
         let mut r = rng(7);
@@ -869,11 +782,7 @@ mod tests {
             let (a, b) = (r() as u32, r() as u32);
             assert_eq!(mul_u32_halves(a, b), a as u64 * b as u64);
             assert_eq!(mul_i32_halves(a as i32, b as i32), a as i32 as i64 * b as i32 as i64);
-            // The i64 and u64 forms, with small and large factors.
-            // Products that fit 63 bits, with one factor beyond 32 bits or not.
-            let (x, y) = ((r() as i64) >> (20 + r() % 40), (r() as i64) >> 44);
-            assert_eq!(mul_i64_halves(x, y), x * y);
-            assert_eq!(mul_i64_halves(y, x), x * y);
+            // The u64 form: products that fit 64 bits, with one factor beyond 32 bits or not.
             let (x, y) = (r() >> (21 + r() % 40), r() >> 45);
             assert_eq!(mul_u64_halves(x, y), x * y);
             assert_eq!(mul_u64_halves(y, x), x * y);

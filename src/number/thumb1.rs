@@ -1,0 +1,249 @@
+//! The Cortex-M0's four hottest exact integer kernels, written in Thumb-1.
+//!
+//! On thumbv6m every Rust function keeps a frame pointer (`push {r7, lr}`,
+//! `add r7, sp`) and LLVM spills a register around the 16-bit halves of a
+//! product; these leaf routines use r0–r5 and no stack beyond two saved
+//! registers. Together they are called some 50 times a pixel. Each computes
+//! exactly what the portable Rust computes on every other target (`*` on
+//! i64, `leading_zeros`, the Q16.16 product's rounding and saturation): the
+//! board's renders are compared bit for bit with the host's, and
+//! [`check`] runs each against the portable Rust on the board.
+
+use core::arch::naked_asm;
+
+/// Leading zeros of each byte value (8 for 0): [`clz32`]'s last step.
+static CLZ8: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut i = 0;
+    while i < 256 {
+        t[i] = (i as u8).leading_zeros() as u8;
+        i += 1;
+    }
+    t
+};
+
+/// The signed 32 × 32 → 64-bit product from four 16 × 16-bit `MULS`, with
+/// `a` in r0 and `b` in r1 (r4 saved by the caller of this text); result in
+/// r0 (low) and r1 (high). Each partial product fits its register: the low
+/// halves' product is below 2^32 unsigned, the others' magnitudes below 2^31.
+macro_rules! mul_i32_body {
+    () => {
+        concat!(
+            "uxth r2, r0\n",      // a0
+            "asrs r0, r0, #16\n", // a1
+            "uxth r3, r1\n",      // b0
+            "asrs r1, r1, #16\n", // b1
+            "movs r4, r2\n",
+            "muls r4, r3\n", // lo = a0 b0
+            "muls r3, r0\n", // m2 = a1 b0
+            "muls r0, r1\n", // hi = a1 b1
+            "muls r1, r2\n", // m1 = a0 b1
+            // lo + m1 · 2^16 into (r0, r4); the shifts set C, the adds reset it.
+            "lsls r2, r1, #16\n",
+            "asrs r1, r1, #16\n",
+            "adds r4, r4, r2\n",
+            "adcs r0, r1\n",
+            "lsls r2, r3, #16\n",
+            "asrs r3, r3, #16\n",
+            "adds r4, r4, r2\n",
+            "adcs r0, r3\n",
+            "movs r1, r0\n",
+            "movs r0, r4\n",
+        )
+    };
+}
+
+/// Leading zeros of `x` (32 for 0): two halving steps and the byte table.
+#[unsafe(naked)]
+pub(crate) extern "C" fn clz32(x: u32) -> u32 {
+    naked_asm!(
+        "movs r1, #0",
+        "lsrs r2, r0, #16",
+        "bne 1f",
+        "lsls r0, r0, #16",
+        "movs r1, #16",
+        "1:",
+        "lsrs r2, r0, #24",
+        "bne 2f",
+        "lsls r0, r0, #8",
+        "adds r1, #8",
+        "2:",
+        "lsrs r0, r0, #24",
+        "ldr r2, 3f",
+        "ldrb r0, [r2, r0]",
+        "adds r0, r0, r1",
+        "bx lr",
+        ".p2align 2",
+        "3:",
+        ".word {table}",
+        table = sym CLZ8,
+    )
+}
+
+/// `a · b` exactly.
+#[unsafe(naked)]
+pub(crate) extern "C" fn mul_i32(a: i32, b: i32) -> i64 {
+    naked_asm!("push {{r4}}", mul_i32_body!(), "pop {{r4}}", "bx lr")
+}
+
+/// `a · b` for a product that fits an i64: the 32-bit product when both
+/// factors fit an i32 (nearly always), else the runtime's 64-bit multiply
+/// (whose low 64 bits are the product, as the caller promises it fits).
+#[unsafe(naked)]
+pub(crate) extern "C" fn mul_i64(a: i64, b: i64) -> i64 {
+    naked_asm!(
+        "push {{r4}}",
+        // Each factor fits an i32 when its high word is its low word's sign.
+        "asrs r4, r0, #31",
+        "cmp r4, r1",
+        "bne 1f",
+        "asrs r4, r2, #31",
+        "cmp r4, r3",
+        "bne 1f",
+        "movs r1, r2",
+        mul_i32_body!(),
+        "pop {{r4}}",
+        "bx lr",
+        // All four argument registers are taken: the address goes through ip.
+        "1:",
+        "ldr r4, 2f",
+        "mov ip, r4",
+        "pop {{r4}}",
+        "bx ip",
+        ".p2align 2",
+        "2:",
+        ".word __aeabi_lmul",
+    )
+}
+
+/// The Q16.16 product `a · b / 2^16`, rounded to nearest (ties up) and
+/// saturated: when both magnitudes are below 2^16 (colours, unit vectors)
+/// their product fits a u32 and one `MULS` does; else the full product.
+#[unsafe(naked)]
+pub(crate) extern "C" fn mul_q16(a: i32, b: i32) -> i32 {
+    naked_asm!(
+        "push {{r4, r5}}",
+        "movs r2, r0",
+        "eors r2, r1", // the product's sign in bit 31
+        "movs r3, r0",
+        "bpl 1f",
+        "negs r3, r3",
+        "1:",
+        "movs r4, r1",
+        "bpl 2f",
+        "negs r4, r4",
+        "2:",
+        "movs r5, r3",
+        "orrs r5, r4",
+        "lsrs r5, r5, #16",
+        "bne 4f",
+        "muls r3, r4", // m = |a| |b| <= (2^16 - 1)^2: m + 2^15 cannot carry
+        "ldr r0, 5f",
+        "cmp r2, #0",
+        "blt 3f",
+        // floor(m / 2^16 + 1/2)
+        "adds r0, r3, r0",
+        "lsrs r0, r0, #16",
+        "pop {{r4, r5}}",
+        "bx lr",
+        // -m: -floor((m + 2^15 - 1) / 2^16), ties towards +∞ as for +m.
+        "3:",
+        "subs r0, #1",
+        "adds r0, r3, r0",
+        "lsrs r0, r0, #16",
+        "negs r0, r0",
+        "pop {{r4, r5}}",
+        "bx lr",
+        // The full product, plus 2^15, shifted down 16 and saturated.
+        "4:",
+        mul_i32_body!(),
+        "ldr r2, 5f",
+        "adds r0, r0, r2",
+        "movs r2, #0", // MOVS keeps C
+        "adcs r1, r2",
+        "lsrs r0, r0, #16",
+        "lsls r2, r1, #16",
+        "orrs r0, r2",
+        "asrs r1, r1, #16",
+        // It fits an i32 when the high word is the low word's sign.
+        "asrs r2, r0, #31",
+        "cmp r1, r2",
+        "bne 6f",
+        "pop {{r4, r5}}",
+        "bx lr",
+        "6:",
+        "ldr r0, 7f",
+        "asrs r1, r1, #31",
+        "eors r0, r1", // i32::MAX, or i32::MIN below 0
+        "pop {{r4, r5}}",
+        "bx lr",
+        ".p2align 2",
+        "5:",
+        ".word 0x8000",
+        "7:",
+        ".word 0x7FFFFFFF",
+    )
+}
+
+/// Runs each kernel against the portable Rust on the edge values and on `n`
+/// pseudo-random pairs of every magnitude: the first pair that differs, as
+/// the kernel's name and the two factors. For the board (tests/firmware.rs
+/// runs it under QEMU); the host has no Thumb-1 to run.
+pub fn check(n: u32) -> Option<(&'static str, i64, i64)> {
+    const EDGES: [i32; 14] = [
+        0,
+        1,
+        -1,
+        0x7FFF,
+        0x8000,
+        0xFFFF,
+        0x1_0000,
+        -0x1_0000,
+        0x1_0001,
+        -0xFFFF,
+        0x7FFF_FFFF,
+        i32::MIN,
+        i32::MIN + 1,
+        0x4000_0000,
+    ];
+    let mut state = 0x2545_F491u32;
+    let mut next = move || {
+        // xorshift32: cheap, full period, no table.
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        state
+    };
+    let mut failed = None;
+    let mut pair = |a: i32, b: i32| {
+        let exact = a as i64 * b as i64;
+        let q16 = ((exact + 0x8000) >> 16).clamp(i32::MIN as i64, i32::MAX as i64) as i32;
+        let (a64, b64) = (a as i64 >> (b as u32 & 31), (b as i64) << (a as u32 % 30));
+        let wide = a64.checked_mul(b64).is_none_or(|p| p == mul_i64(a64, b64));
+        let fail = if mul_i32(a, b) != exact {
+            Some("mul_i32")
+        } else if mul_i64(a as i64, b as i64) != exact || !wide {
+            Some("mul_i64")
+        } else if mul_q16(a, b) != q16 {
+            Some("mul_q16")
+        } else if clz32(a as u32) != (a as u32).leading_zeros() {
+            Some("clz32")
+        } else {
+            None
+        };
+        if failed.is_none() {
+            failed = fail.map(|k| (k, a as i64, b as i64));
+        }
+    };
+    for a in EDGES {
+        for b in EDGES {
+            pair(a, b);
+        }
+    }
+    for _ in 0..n {
+        // Magnitudes from 1 bit to 32, either sign.
+        let (ra, rb, shifts) = (next(), next(), next());
+        pair((ra as i32) >> (shifts & 31), (rb as i32) >> ((shifts >> 5) & 31));
+    }
+    failed
+}
