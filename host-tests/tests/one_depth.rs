@@ -8,7 +8,7 @@
 
 mod common;
 use common::{object_text, rng, stored_rows_delta, surface_point, SteppedRay, SHAPES};
-use lensray::{Scalar, Scene, Vec3, I16F16};
+use lensray::{Scalar, Scene, Shape, Vec3, I16F16};
 use lensray_host::reference64::{Hit64, Object64, Scene64};
 
 const CAMERA: &str = "image_distance 8\nlens_position 0 0 0\nwidth 1\naspect_ratio 1\nlook 0 0 -1\nup 0 1 0\n";
@@ -42,6 +42,82 @@ fn nearest_on_rounded_t(scene: &Scene<I16F16>, o: Vec3<I16F16>, d: Vec3<I16F16>)
         .map(|(_, i)| i)
 }
 
+/// A random pair of shapes, each small, turned and stretched, the second
+/// moved so that it passes through a point `p` of the first's surface: the
+/// scene's text and `p`; `None` where a surface point was not found.
+fn pair_through_a_point<R: FnMut() -> f64>(r: &mut R) -> Option<(Shape, Shape, String, [f64; 3])> {
+    let (a, b) = (SHAPES[(r() * 5.0) as usize], SHAPES[(r() * 5.0) as usize]);
+    let mut form = || {
+        let s = [0, 1, 2]
+            .map(|_| (0.2 + 1.3 * r()) * 10_000.0)
+            .map(|x| x.round() / 10_000.0);
+        let turn = |r: &mut dyn FnMut() -> f64| ((r() * 3.0) as usize, ((r() * 360.0) * 10_000.0).round() / 10_000.0);
+        (s, [turn(&mut *r), turn(&mut *r)])
+    };
+    let (fa, fb) = (form(), form());
+    let ta = [0, 1, 2].map(|_| ((r() - 0.5) * 60.0 * 10_000.0).round() / 10_000.0);
+    // A point on A's surface; B at the origin, a point on its surface.
+    let a_text = object_text(a, fa, ta);
+    let p = surface_point(&Scene64::parse(&format!("{CAMERA}{a_text}")), ta, &mut *r)?;
+    let w = surface_point(
+        &Scene64::parse(&format!("{CAMERA}{}", object_text(b, fb, [0.0; 3]))),
+        [0.0; 3],
+        &mut *r,
+    )?;
+    // B moved so that it passes through p (to the text's 4 decimals: near it).
+    let tb = [0, 1, 2].map(|i| ((p[i] - w[i]) * 10_000.0).round() / 10_000.0);
+    Some((a, b, format!("{CAMERA}{a_text}{}", object_text(b, fb, tb)), p))
+}
+
+/// The two neighbouring steps between which f64's nearest object flips
+/// (within 0.02 either side of step 0), by bisection; `None` where it is
+/// the same at both ends or missing at one.
+fn flip(nearest64: impl Fn(i64) -> Option<usize>) -> Option<(i64, i64)> {
+    let (mut lo, mut hi) = (-1310i64, 1310i64);
+    let (first, last) = (nearest64(lo), nearest64(hi));
+    if first == last || first.is_none() || last.is_none() {
+        return None;
+    }
+    while hi - lo > 1 {
+        let mid = (lo + hi) / 2;
+        if nearest64(mid) == first {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some((lo, hi))
+}
+
+/// Why Q16.16's nearest object on the ray `o + t d` differs from f64's:
+/// whether the two f64 hits lie further apart than the rows' error (the
+/// difference is then beyond what the stored rows explain), and a line that
+/// shows both hits in both types.
+fn diagnosis(s64: &Scene64, on: &Scene<I16F16>, (o, d): (Vec3<I16F16>, Vec3<I16F16>), df: [f64; 3]) -> (bool, String) {
+    let of = o.to_array().map(|x| x.to_f64());
+    let h64 = [0, 1].map(|i| s64.objects[i].hit(of, df, 1e-3, f64::INFINITY));
+    let t64 = h64.map(|h| h.map(|h| h.t));
+    // Closer than the rows hold either hit: not decidable here.
+    let (gap, bound) = match h64 {
+        [Some(x), Some(y)] => (
+            (x.t - y.t).abs(),
+            t_error(&s64.objects[0], of, df, &x) + t_error(&s64.objects[1], of, df, &y),
+        ),
+        _ => (f64::INFINITY, 0.0),
+    };
+    let tq = [0, 1].map(|i| {
+        let obj = &on.objects()[i];
+        obj.intersect(o, d, I16F16::HIT_EPSILON, I16F16::MAX).map(|h| {
+            let e = obj.exact_t_along(&h, o, d);
+            (h.t.to_f64(), e.map(|e| e as f64 / (1u64 << 30) as f64))
+        })
+    });
+    (
+        gap >= bound,
+        format!("f64 {t64:?} ({gap:.1e} apart, rows' error {bound:.1e}), Q16.16 (t, exact t) {tq:?}"),
+    )
+}
+
 /// Rays, and Q16.16's nearest object unlike f64's with the exact order and
 /// on the rounded t alone, over `cases` random pairs: the origin stepped one Q16.16 step at
 /// a time across the place where f64's nearest object flips between the two
@@ -52,32 +128,9 @@ fn disagreements(cases: usize) -> (usize, usize, usize, usize, Vec<String>) {
     let (mut rays, mut wrong_on, mut wrong_off, mut beyond) = (0, 0, 0, 0);
     let mut cases_wrong = Vec::new();
     for case in 0..cases {
-        let (a, b) = (SHAPES[(r() * 5.0) as usize], SHAPES[(r() * 5.0) as usize]);
-        let mut form = || {
-            let s = [0, 1, 2]
-                .map(|_| (0.2 + 1.3 * r()) * 10_000.0)
-                .map(|x| x.round() / 10_000.0);
-            let turn =
-                |r: &mut dyn FnMut() -> f64| ((r() * 3.0) as usize, ((r() * 360.0) * 10_000.0).round() / 10_000.0);
-            (s, [turn(&mut r), turn(&mut r)])
-        };
-        let (fa, fb) = (form(), form());
-        let ta = [0, 1, 2].map(|_| ((r() - 0.5) * 60.0 * 10_000.0).round() / 10_000.0);
-        // A point on A's surface; B at the origin, a point on its surface.
-        let a_text = object_text(a, fa, ta);
-        let Some(p) = surface_point(&Scene64::parse(&format!("{CAMERA}{a_text}")), ta, &mut r) else {
+        let Some((a, b, text, p)) = pair_through_a_point(&mut r) else {
             continue;
         };
-        let Some(w) = surface_point(
-            &Scene64::parse(&format!("{CAMERA}{}", object_text(b, fb, [0.0; 3]))),
-            [0.0; 3],
-            &mut r,
-        ) else {
-            continue;
-        };
-        // B moved so that it passes through p (to the text's 4 decimals: near it).
-        let tb = [0, 1, 2].map(|i| ((p[i] - w[i]) * 10_000.0).round() / 10_000.0);
-        let text = format!("{CAMERA}{a_text}{}", object_text(b, fb, tb));
         let s64 = Scene64::parse(&text);
         let on = Scene::<I16F16>::parse(&text).expect("parse");
         // An origin 20 to 120 away, the direction at p, rounded.
@@ -85,20 +138,9 @@ fn disagreements(cases: usize) -> (usize, usize, usize, usize, Vec<String>) {
         let (d, df) = (ray.d, ray.df);
         let origin = |k: i64| ray.origin(k);
         let nearest64 = |k: i64| s64.closest(origin(k).map(|x| x.to_f64()), df, 1e-3).map(|h| h.0);
-        // f64's nearest object flips within 0.02 either side.
-        let (mut lo, mut hi) = (-1310i64, 1310i64);
-        let (first, last) = (nearest64(lo), nearest64(hi));
-        if first == last || first.is_none() || last.is_none() {
+        let Some((lo, hi)) = flip(nearest64) else {
             continue;
-        }
-        while hi - lo > 1 {
-            let mid = (lo + hi) / 2;
-            if nearest64(mid) == first {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
+        };
         // A crossing: both objects met there, at nearly one t.
         let o = origin(lo).map(|x| x.to_f64());
         let (h0, h1) = (
@@ -118,28 +160,9 @@ fn disagreements(cases: usize) -> (usize, usize, usize, usize, Vec<String>) {
             wrong_off += usize::from(q_off != truth);
             if q_on != truth {
                 wrong_on += 1;
-                let of = origin(k).map(|x| x.to_f64());
-                let h64 = [0, 1].map(|i| s64.objects[i].hit(of, df, 1e-3, f64::INFINITY));
-                let t64 = h64.map(|h| h.map(|h| h.t));
-                // Closer than the rows hold either hit: not decidable here.
-                let (gap, bound) = match h64 {
-                    [Some(x), Some(y)] => (
-                        (x.t - y.t).abs(),
-                        t_error(&s64.objects[0], of, df, &x) + t_error(&s64.objects[1], of, df, &y),
-                    ),
-                    _ => (f64::INFINITY, 0.0),
-                };
-                beyond += usize::from(gap >= bound);
-                let tq = [0, 1].map(|i| {
-                    let obj = &on.objects()[i];
-                    obj.intersect(o, d, I16F16::HIT_EPSILON, I16F16::MAX).map(|h| {
-                        let e = obj.exact_t_along(&h, o, d);
-                        (h.t.to_f64(), e.map(|e| e as f64 / (1u64 << 30) as f64))
-                    })
-                });
-                cases_wrong.push(format!(
-                    "case {case}: {a:?} and {b:?}, step {k} of {lo}..{hi}: f64 {t64:?} ({gap:.1e} apart, rows' error {bound:.1e}), Q16.16 (t, exact t) {tq:?}"
-                ));
+                let (far_apart, line) = diagnosis(&s64, &on, (o, d), df);
+                beyond += usize::from(far_apart);
+                cases_wrong.push(format!("case {case}: {a:?} and {b:?}, step {k} of {lo}..{hi}: {line}"));
             }
         }
     }

@@ -179,6 +179,7 @@ fn lit_q16(scene: &Scene<I16F16>) -> Option<(bool, bool)> {
 const ROWS: f64 = 1e-6;
 
 /// What [`disagreements`] counts.
+#[derive(Default)]
 struct Counts {
     rays: usize,
     /// Q16.16 unlike f64: the renderer's light, and the rounded start's.
@@ -190,6 +191,26 @@ struct Counts {
     cases: Vec<String>,
 }
 
+/// The two neighbouring steps between which f64's light flips (within 0.02
+/// either side of step 0), by bisection; `None` where it is the same at both
+/// ends, missing at one, or missing on the way.
+fn lit_flip(lit: impl Fn(i64) -> Option<bool>) -> Option<(i64, i64)> {
+    let (mut lo, mut hi) = (-2000i64, 2000i64);
+    let first = lit(lo);
+    if first.is_none() || lit(hi).is_none() || first == lit(hi) {
+        return None;
+    }
+    while hi - lo > 1 {
+        let mid = (lo + hi) / 2;
+        match lit(mid) {
+            x if x == first => lo = mid,
+            Some(_) => hi = mid,
+            None => break,
+        }
+    }
+    (hi - lo == 1).then_some((lo, hi))
+}
+
 /// Rays, and Q16.16's light unlike f64's (the renderer's, and the rounded
 /// start's: [`lit_q16`]), over
 /// `cases` random pairs: the camera's eye stepped 1e-5 at a time (its bits
@@ -198,8 +219,7 @@ struct Counts {
 /// With `along_face`, every blocker is a cube met nearly along a face.
 fn disagreements(cases: usize, seed: u64, along_face: bool) -> Counts {
     let mut r = rng(seed);
-    let (mut rays, mut wrong_on, mut wrong_off, mut rows, mut unexplained) = (0, 0, 0, 0, 0);
-    let mut cases_wrong = Vec::new();
+    let mut counts = Counts::default();
     for case in 0..cases {
         let ((a, b), (fa, fb)) = lit_and_blocker(&mut r);
         let b = if along_face { Shape::Cube } else { b };
@@ -240,23 +260,9 @@ fn disagreements(cases: usize, seed: u64, along_face: bool) -> Counts {
             shadow64(&s64, light, s64.camera.lens_position, s64.chief_dir(0, 0, 1, 1))
         };
         let lit = |k: i64| shadow(k).map(|s| s.0);
-        // f64's light flips within 0.02 either side.
-        let (mut lo, mut hi) = (-2000i64, 2000i64);
-        let first = lit(lo);
-        if first.is_none() || lit(hi).is_none() || first == lit(hi) {
+        let Some((lo, hi)) = lit_flip(lit) else {
             continue;
-        }
-        while hi - lo > 1 {
-            let mid = (lo + hi) / 2;
-            match lit(mid) {
-                x if x == first => lo = mid,
-                Some(_) => hi = mid,
-                None => break,
-            }
-        }
-        if hi - lo > 1 {
-            continue;
-        }
+        };
         for k in lo - 3..=hi + 3 {
             let Some((truth, margin, slope, _)) = shadow(k) else {
                 continue;
@@ -264,32 +270,25 @@ fn disagreements(cases: usize, seed: u64, along_face: bool) -> Counts {
             let Some((q_on, q_off)) = lit_q16(&Scene::<I16F16>::parse(&text(k)).expect("parse")) else {
                 continue;
             };
-            rays += 1;
-            wrong_off += usize::from(q_off != truth);
+            counts.rays += 1;
+            counts.wrong_off += usize::from(q_off != truth);
             if q_on != truth {
-                wrong_on += 1;
+                counts.wrong_on += 1;
                 // Closer than the stored rows hold the line.
                 let why = if margin < ROWS {
-                    rows += 1;
+                    counts.rows += 1;
                     "within the rows' error"
                 } else {
-                    unexplained += 1;
+                    counts.unexplained += 1;
                     "unexplained"
                 };
-                cases_wrong.push(format!(
+                counts.cases.push(format!(
                     "case {case}: {a:?} lit, {b:?} blocking, step {k} of {lo}..{hi}: f64 lit {truth}, margin {margin:.1e}, slope {slope:.1e}: {why}"
                 ));
             }
         }
     }
-    Counts {
-        rays,
-        wrong_on,
-        wrong_off,
-        rows,
-        unexplained,
-        cases: cases_wrong,
-    }
+    counts
 }
 
 /// Prints the counts and asserts: enough rays, the rounded start wrong on
