@@ -264,9 +264,11 @@ fn unit_of_exact(mut d: FixedDir) -> ([I16F16; 3], I16F16, I16F16) {
 }
 
 impl Kernels for I16F16 {
-    // On the M0 a call (in place at every `Vec3` product the Rust took 3.3 KB
-    // of its flash, for some 3 % of its instructions).
-    #[inline(always)]
+    // On the M0 a call to the Thumb-1 routine (in place at every `Vec3`
+    // product the Rust took 3.3 KB of its flash, for some 3 % of its
+    // instructions); elsewhere the compiler's choice, as for `mul`.
+    #[cfg_attr(lensray_v6m, inline(always))]
+    #[cfg_attr(not(lensray_v6m), inline)]
     fn mul_inline(self, o: Self) -> Self {
         I16F16::from_bits(mul_q16(self.to_bits(), o.to_bits()))
     }

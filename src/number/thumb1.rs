@@ -38,7 +38,8 @@ macro_rules! mul_i32_body {
             "muls r3, r0\n", // m2 = a1 b0
             "muls r0, r1\n", // hi = a1 b1
             "muls r1, r2\n", // m1 = a0 b1
-            // lo + m1 · 2^16 into (r0, r4); the shifts set C, the adds reset it.
+            // m1 · 2^16, then m2 · 2^16, sign-extended and added to (hi, lo) in
+            // (r0, r4); the shifts set C, the adds set it again.
             "lsls r2, r1, #16\n",
             "asrs r1, r1, #16\n",
             "adds r4, r4, r2\n",
