@@ -107,7 +107,7 @@ mod tests;
 pub fn check_thumb1_kernels(pairs: u32) -> Option<(&'static str, i64, i64)> {
     #[cfg(lensray_v6m)]
     {
-        number::thumb1::check(pairs)
+        number::wide::check_thumb1(pairs)
     }
     #[cfg(not(lensray_v6m))]
     {

@@ -1,13 +1,13 @@
-//! The Cortex-M0's four hottest exact integer kernels, written in Thumb-1.
+//! The Cortex-M0's hottest exact integer kernels, written in Thumb-1.
 //!
 //! On thumbv6m every Rust function keeps a frame pointer (`push {r7, lr}`,
 //! `add r7, sp`) and LLVM spills a register around the 16-bit halves of a
-//! product; these leaf routines use r0–r5 and no stack beyond two saved
-//! registers. Together they are called some 50 times a pixel. Each computes
+//! product; these leaf routines use r0–r6 and no stack beyond three saved
+//! registers. Together they are called some 55 times a pixel. Each computes
 //! exactly what the portable Rust computes on every other target (`*` on
 //! i64, `leading_zeros`, the Q16.16 product's rounding and saturation): the
 //! board's renders are compared bit for bit with the host's, and
-//! [`check`] runs each against the portable Rust on the board.
+//! `wide::check_thumb1` runs each against the portable Rust on the board.
 
 use core::arch::naked_asm;
 
@@ -50,6 +50,33 @@ macro_rules! mul_i32_body {
             "adcs r0, r3\n",
             "movs r1, r0\n",
             "movs r0, r4\n",
+        )
+    };
+}
+
+/// The unsigned 32 × 32 → 64-bit product of r0 and r1 (both kept) into r3
+/// (high) and r2 (low), with r4–r6 (saved by the caller of this text).
+macro_rules! mul_u32_body {
+    () => {
+        concat!(
+            "uxth r2, r0\n",      // a0
+            "lsrs r3, r0, #16\n", // a1
+            "uxth r4, r1\n",      // b0
+            "lsrs r5, r1, #16\n", // b1
+            "movs r6, r2\n",
+            "muls r6, r4\n", // lo = a0 b0
+            "muls r2, r5\n", // m1 = a0 b1
+            "muls r4, r3\n", // m2 = a1 b0
+            "muls r3, r5\n", // hi = a1 b1
+            "lsls r5, r2, #16\n",
+            "lsrs r2, r2, #16\n",
+            "adds r6, r6, r5\n",
+            "adcs r3, r2\n",
+            "lsls r5, r4, #16\n",
+            "lsrs r4, r4, #16\n",
+            "adds r6, r6, r5\n",
+            "adcs r3, r4\n",
+            "movs r2, r6\n",
         )
     };
 }
@@ -186,65 +213,80 @@ pub(crate) extern "C" fn mul_q16(a: i32, b: i32) -> i32 {
     )
 }
 
-/// Runs each kernel against the portable Rust on the edge values and on `n`
-/// pseudo-random pairs of every magnitude: the first pair that differs, as
-/// the kernel's name and the two factors. For the board (tests/firmware.rs
-/// runs it under QEMU); the host has no Thumb-1 to run.
-pub fn check(n: u32) -> Option<(&'static str, i64, i64)> {
-    const EDGES: [i32; 14] = [
-        0,
-        1,
-        -1,
-        0x7FFF,
-        0x8000,
-        0xFFFF,
-        0x1_0000,
-        -0x1_0000,
-        0x1_0001,
-        -0xFFFF,
-        0x7FFF_FFFF,
-        i32::MIN,
-        i32::MIN + 1,
-        0x4000_0000,
-    ];
-    let mut state = 0x2545_F491u32;
-    let mut next = move || {
-        // xorshift32: cheap, full period, no table.
-        state ^= state << 13;
-        state ^= state >> 17;
-        state ^= state << 5;
-        state
-    };
-    let mut failed = None;
-    let mut pair = |a: i32, b: i32| {
-        let exact = a as i64 * b as i64;
-        let q16 = ((exact + 0x8000) >> 16).clamp(i32::MIN as i64, i32::MAX as i64) as i32;
-        let (a64, b64) = (a as i64 >> (b as u32 & 31), (b as i64) << (a as u32 % 30));
-        let wide = a64.checked_mul(b64).is_none_or(|p| p == mul_i64(a64, b64));
-        let fail = if mul_i32(a, b) != exact {
-            Some("mul_i32")
-        } else if mul_i64(a as i64, b as i64) != exact || !wide {
-            Some("mul_i64")
-        } else if mul_q16(a, b) != q16 {
-            Some("mul_q16")
-        } else if clz32(a as u32) != (a as u32).leading_zeros() {
-            Some("clz32")
-        } else {
-            None
-        };
-        if failed.is_none() {
-            failed = fail.map(|k| (k, a as i64, b as i64));
-        }
-    };
-    for a in EDGES {
-        for b in EDGES {
-            pair(a, b);
-        }
-    }
-    for _ in 0..n {
-        // Magnitudes from 1 bit to 32, either sign.
-        let (ra, rb, shifts) = (next(), next(), next());
-        pair((ra as i32) >> (shifts & 31), (rb as i32) >> ((shifts >> 5) & 31));
-    }
-    failed
+/// `floor((2^64 - 1) / d) - 2^32` for `d >= 2^31`, the word reciprocal of
+/// `wide::recip_word`, by its steps: `table`'s 9-bit start, a Newton step in
+/// 16 × 16-bit products, a full-width Newton step (both from below), then
+/// the remainder's correction, at most three steps.
+#[unsafe(naked)]
+pub(crate) extern "C" fn recip_word(d: u32, table: &[u16; 256]) -> u32 {
+    naked_asm!(
+        "push {{r4, r5, r6}}",
+        // x0 = table[(d >> 23) & 0xFF] ≈ 2^47 / d
+        "lsls r2, r0, #1",
+        "lsrs r2, r2, #24",
+        "lsls r2, r2, #1",
+        "ldrh r1, [r1, r2]",
+        // e = 2^23 - ((d >> 16) x0 >> 8) - ((d & 0xFFFF) x0 >> 24), |e| < 2^14.1
+        "lsrs r2, r0, #16",
+        "muls r2, r1",
+        "lsrs r2, r2, #8",
+        "uxth r3, r0",
+        "muls r3, r1",
+        "lsrs r3, r3, #24",
+        "adds r2, r2, r3",
+        "movs r3, #1",
+        "lsls r3, r3, #23",
+        "subs r3, r3, r2",
+        // v1 = (x0 << 17) + (e x0 >> 6) - 2^32 - 2^12 in (r2, r1), then max(0, v1)
+        "muls r3, r1",
+        "asrs r3, r3, #6",
+        "lsrs r2, r1, #15",
+        "lsls r1, r1, #17",
+        "asrs r4, r3, #31",
+        "adds r1, r1, r3",
+        "adcs r2, r4",
+        "movs r3, #1",
+        "lsls r3, r3, #12",
+        "movs r4, #1", // MOVS keeps C
+        "subs r1, r1, r3",
+        "sbcs r2, r4",
+        "bpl 1f",
+        "movs r1, #0",
+        "1:",
+        // m = the high word of 2^64 - d (2^32 + v1), below 2^15
+        mul_u32_body!(),
+        "negs r4, r0",
+        "negs r2, r2", // C: no borrow out of the low word
+        "sbcs r4, r3",
+        // v = v1 + m + v1 m / 2^32, the last from two 16 × 16-bit products
+        "lsrs r5, r1, #16",
+        "muls r5, r4",
+        "uxth r6, r1",
+        "muls r6, r4",
+        "lsrs r6, r6, #16",
+        "adds r5, r5, r6",
+        "lsrs r5, r5, #16",
+        "adds r1, r1, r4",
+        "adds r1, r1, r5",
+        // e = 2^64 - 1 - d (2^32 + v) in (r4, r2): while e >= d, v += 1 and e -= d
+        mul_u32_body!(),
+        "mvns r2, r2",
+        "mvns r4, r0",
+        "subs r4, r4, r3",
+        "2:",
+        "cmp r4, #0",
+        "bne 3f",
+        "cmp r2, r0",
+        "blo 4f",
+        "3:",
+        "adds r1, #1",
+        "subs r2, r2, r0",
+        "movs r3, #0", // MOVS keeps C
+        "sbcs r4, r3",
+        "b 2b",
+        "4:",
+        "movs r0, r1",
+        "pop {{r4, r5, r6}}",
+        "bx lr",
+    )
 }

@@ -219,7 +219,7 @@ fn rsqrt_start(w: u32) -> u32 {
 
 /// Rounded `2^47 / d` at the middle of each of the 256 intervals
 /// `[256 + j, 257 + j) · 2^23` of a normalised divisor d: `round(2^24 / (256.5 + j))`.
-const RECIP_T: [u16; 256] = {
+static RECIP_T: [u16; 256] = {
     let mut t = [0u16; 256];
     let mut j = 0;
     while j < 256 {
@@ -387,11 +387,25 @@ fn recip_word_estimate(d: u32) -> u32 {
 /// `floor((2^64 - 1) / d) - 2^32` for a normalised divisor `d >= 2^31`,
 /// exactly: the reciprocal of the 2-by-1 word division of Möller and
 /// Granlund (2011), from [`recip_word_estimate`] corrected by the remainder.
-// One copy on the M0, shared by the divisions and the powers of two' reciprocals.
-#[cfg_attr(lensray_v6m, inline(never))]
-#[cfg_attr(not(lensray_v6m), inline(always))]
+// On the M0 one copy in Thumb-1, shared by the divisions and the powers of
+// two' reciprocals.
+#[inline(always)]
 #[cfg_attr(not(lensray_v6m), allow(dead_code))]
 fn recip_word(d: u32) -> u32 {
+    #[cfg(lensray_v6m)]
+    {
+        super::thumb1::recip_word(d, &RECIP_T)
+    }
+    #[cfg(not(lensray_v6m))]
+    {
+        recip_word_portable(d)
+    }
+}
+
+/// [`recip_word`] in Rust: the other targets' (inline), and the reference
+/// the M0's Thumb-1 routine is checked against.
+#[inline(always)]
+fn recip_word_portable(d: u32) -> u32 {
     let mut v = recip_word_estimate(d);
     // e = 2^64 - 1 - d (2^32 + v) >= 0 must drop below d.
     let mut e = !((d as u64) << 32) - mul_u32_inline(d, v);
@@ -688,6 +702,82 @@ pub(crate) fn div_rem_u64_big(n: u64, d: u64) -> (u64, u64) {
     } else {
         (q, r)
     }
+}
+
+/// Runs each of the M0's Thumb-1 kernels (`thumb1`) against the portable
+/// Rust on the edge values and on `n` pseudo-random pairs of every
+/// magnitude: the first pair that differs, as the kernel's name and its
+/// operands. For the board (tests/firmware.rs runs it under QEMU); the host
+/// has no Thumb-1 to run.
+#[cfg(lensray_v6m)]
+pub(crate) fn check_thumb1(n: u32) -> Option<(&'static str, i64, i64)> {
+    use super::thumb1::{clz32, mul_i32, mul_i64, mul_q16};
+    const EDGES: [i32; 14] = [
+        0,
+        1,
+        -1,
+        0x7FFF,
+        0x8000,
+        0xFFFF,
+        0x1_0000,
+        -0x1_0000,
+        0x1_0001,
+        -0xFFFF,
+        0x7FFF_FFFF,
+        i32::MIN,
+        i32::MIN + 1,
+        0x4000_0000,
+    ];
+    let mut state = 0x2545_F491u32;
+    let mut next = move || {
+        // xorshift32: cheap, full period, no table.
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        state
+    };
+    let mut failed = None;
+    let mut pair = |a: i32, b: i32| {
+        let exact = a as i64 * b as i64;
+        // A normalised divisor from either factor.
+        let d = (a as u32 | 1 << 31) ^ (b as u32 & 0x7FFF_FFFF);
+        let q16 = ((exact + 0x8000) >> 16).clamp(i32::MIN as i64, i32::MAX as i64) as i32;
+        let (a64, b64) = (a as i64 >> (b as u32 & 31), (b as i64) << (a as u32 % 30));
+        let wide = a64.checked_mul(b64).is_none_or(|p| p == mul_i64(a64, b64));
+        let fail = if mul_i32(a, b) != exact {
+            Some("mul_i32")
+        } else if mul_i64(a as i64, b as i64) != exact || !wide {
+            Some("mul_i64")
+        } else if mul_q16(a, b) != q16 {
+            Some("mul_q16")
+        } else if clz32(a as u32) != (a as u32).leading_zeros() {
+            Some("clz32")
+        } else if recip_word(d) != recip_word_portable(d) {
+            Some("recip_word")
+        } else {
+            None
+        };
+        if failed.is_none() {
+            failed = fail.map(|k| {
+                if k == "recip_word" {
+                    (k, d as i64, 0)
+                } else {
+                    (k, a as i64, b as i64)
+                }
+            });
+        }
+    };
+    for a in EDGES {
+        for b in EDGES {
+            pair(a, b);
+        }
+    }
+    for _ in 0..n {
+        // Magnitudes from 1 bit to 32, either sign.
+        let (ra, rb, shifts) = (next(), next(), next());
+        pair((ra as i32) >> (shifts & 31), (rb as i32) >> ((shifts >> 5) & 31));
+    }
+    failed
 }
 
 #[cfg(test)]
