@@ -267,12 +267,13 @@ fn program1_pinhole(board: &str) -> &'static str {
 const MICROBIT_FLASH: u64 = 40 * 1024;
 
 /// The micro:bit's ceiling for Program 1 through a pinhole, instructions a
-/// pixel at 160x120: 5,846 measured (BENCHMARKS.md) with a few percent for
+/// pixel at 160x120: 5,770 measured (BENCHMARKS.md) with a few percent for
 /// toolchain drift. The build is for size (firmware/Cargo.toml's `microbit`
 /// profile, the default build held to 40 KiB of flash), with the Cortex-M0's
-/// products and bit counts in Thumb-1 (src/number/thumb1.rs) and its
-/// divisions in one out-of-line copy each (src/number/wide.rs); the exact
-/// retakes of docs/fixed-point.md run on every board.
+/// products, bit counts and word reciprocal in Thumb-1 (src/number/thumb1.rs)
+/// and its divisions and square roots in one out-of-line copy each
+/// (src/number/wide.rs); the exact retakes of docs/fixed-point.md run on
+/// every board.
 const MICROBIT_PINHOLE: u64 = 6100;
 
 /// Program 1's adaptive frame at `width` x `height` and `samples` on the
@@ -499,21 +500,28 @@ fn sifive_e_rv32_renders_bit_for_bit_in_q16_and_f32() {
     }
 }
 
-/// `lensray emulate` with a deliberate failure built in (`LENSRAY_FAULT`).
-fn emulate_fault(board: &str, fault: &str) -> Output {
-    let run = Run {
-        board: match board {
-            "microbit" => "microbit",
-            "sifive-e" => "sifive-e",
-            _ => "mps2-an386",
-        },
+/// Program 1 through a pinhole at 8x6 in Q16.16 on `board`: the quickest
+/// run, for the tests of what happens around the render.
+fn tiny_pinhole(board: &'static str) -> Run {
+    Run {
+        board,
         scene: PINHOLE,
         width: 8,
         height: 6,
         samples: None,
         float: false,
         soft_sqrt: false,
+    }
+}
+
+/// `lensray emulate` with a deliberate failure built in (`LENSRAY_FAULT`).
+fn emulate_fault(board: &str, fault: &str) -> Output {
+    let board = match board {
+        "microbit" => "microbit",
+        "sifive-e" => "sifive-e",
+        _ => "mps2-an386",
     };
+    let run = tiny_pinhole(board);
     let out = tmp(&format!("fault-{board}-{fault}.bmp"));
     let _ = std::fs::remove_file(&out);
     let o = emulate_cmd(&run, &out)
@@ -532,15 +540,7 @@ fn emulate_fault(board: &str, fault: &str) -> Output {
 #[test]
 #[ignore = "needs qemu-system-arm and thumbv6m-none-eabi; run by scripts/firmware-tests.sh"]
 fn microbit_thumb1_kernels_match_the_portable_rust() {
-    let run = Run {
-        board: "microbit",
-        scene: PINHOLE,
-        width: 8,
-        height: 6,
-        samples: None,
-        float: false,
-        soft_sqrt: false,
-    };
+    let run = tiny_pinhole("microbit");
     let out = tmp("thumb1-kernels.bmp");
     let o = emulate_cmd(&run, &out)
         .env("LENSRAY_CHECK", "kernels")

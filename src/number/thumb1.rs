@@ -22,62 +22,50 @@ static CLZ8: [u8; 256] = {
     t
 };
 
-/// The signed 32 × 32 → 64-bit product from four 16 × 16-bit `MULS`, with
-/// `a` in r0 and `b` in r1 (r4 saved by the caller of this text); result in
-/// r0 (low) and r1 (high). Each partial product fits its register: the low
-/// halves' product is below 2^32 unsigned, the others' magnitudes below 2^31.
-macro_rules! mul_i32_body {
-    () => {
+/// The 32 × 32 → 64-bit product of registers `a` and `b` from four
+/// 16 × 16-bit `MULS`: their halves into `a0`, `a1`, `b0`, `b1` (`a1` and `b1`
+/// may be `a` and `b` themselves), the product's high word into `a1` and its
+/// low word into `lo`. `shr` is `asrs` for signed factors (high halves
+/// signed, the two middle products then below 2^31 in magnitude) or `lsrs`
+/// for unsigned ones. The shifts set C; each `adds` sets it again for its
+/// `adcs`.
+#[rustfmt::skip]
+macro_rules! mul32 {
+    ($shr:literal, $a:literal, $b:literal => $a0:literal, $a1:literal, $b0:literal, $b1:literal, $lo:literal) => {
         concat!(
-            "uxth r2, r0\n",      // a0
-            "asrs r0, r0, #16\n", // a1
-            "uxth r3, r1\n",      // b0
-            "asrs r1, r1, #16\n", // b1
-            "movs r4, r2\n",
-            "muls r4, r3\n", // lo = a0 b0
-            "muls r3, r0\n", // m2 = a1 b0
-            "muls r0, r1\n", // hi = a1 b1
-            "muls r1, r2\n", // m1 = a0 b1
-            // m1 · 2^16, then m2 · 2^16, sign-extended and added to (hi, lo) in
-            // (r0, r4); the shifts set C, the adds set it again.
-            "lsls r2, r1, #16\n",
-            "asrs r1, r1, #16\n",
-            "adds r4, r4, r2\n",
-            "adcs r0, r1\n",
-            "lsls r2, r3, #16\n",
-            "asrs r3, r3, #16\n",
-            "adds r4, r4, r2\n",
-            "adcs r0, r3\n",
-            "movs r1, r0\n",
-            "movs r0, r4\n",
+            "uxth ", $a0, ", ", $a, "\n",
+            $shr, " ", $a1, ", ", $a, ", #16\n",
+            "uxth ", $b0, ", ", $b, "\n",
+            $shr, " ", $b1, ", ", $b, ", #16\n",
+            "movs ", $lo, ", ", $a0, "\n",
+            "muls ", $lo, ", ", $b0, "\n", // a0 b0
+            "muls ", $b0, ", ", $a1, "\n", // a1 b0
+            "muls ", $a1, ", ", $b1, "\n", // a1 b1: the high word's start
+            "muls ", $b1, ", ", $a0, "\n", // a0 b1
+            "lsls ", $a0, ", ", $b1, ", #16\n",
+            $shr, " ", $b1, ", ", $b1, ", #16\n",
+            "adds ", $lo, ", ", $lo, ", ", $a0, "\n",
+            "adcs ", $a1, ", ", $b1, "\n",
+            "lsls ", $a0, ", ", $b0, ", #16\n",
+            $shr, " ", $b0, ", ", $b0, ", #16\n",
+            "adds ", $lo, ", ", $lo, ", ", $a0, "\n",
+            "adcs ", $a1, ", ", $b0, "\n",
         )
     };
 }
 
-/// The unsigned 32 × 32 → 64-bit product of r0 and r1 (both kept) into r3
-/// (high) and r2 (low), with r4–r6 (saved by the caller of this text).
+/// The signed product of r0 and r1 into r1 (high) and r0 (low), with r2–r4.
+macro_rules! mul_i32_body {
+    () => {
+        concat!(mul32!("asrs", "r0", "r1" => "r2", "r0", "r3", "r1", "r4"), "movs r1, r0\n", "movs r0, r4\n")
+    };
+}
+
+/// The unsigned product of r0 and r1 (both kept) into r3 (high) and r6
+/// (low), with r2, r4 and r5.
 macro_rules! mul_u32_body {
     () => {
-        concat!(
-            "uxth r2, r0\n",      // a0
-            "lsrs r3, r0, #16\n", // a1
-            "uxth r4, r1\n",      // b0
-            "lsrs r5, r1, #16\n", // b1
-            "movs r6, r2\n",
-            "muls r6, r4\n", // lo = a0 b0
-            "muls r2, r5\n", // m1 = a0 b1
-            "muls r4, r3\n", // m2 = a1 b0
-            "muls r3, r5\n", // hi = a1 b1
-            "lsls r5, r2, #16\n",
-            "lsrs r2, r2, #16\n",
-            "adds r6, r6, r5\n",
-            "adcs r3, r2\n",
-            "lsls r5, r4, #16\n",
-            "lsrs r4, r4, #16\n",
-            "adds r6, r6, r5\n",
-            "adcs r3, r4\n",
-            "movs r2, r6\n",
-        )
+        mul32!("lsrs", "r0", "r1" => "r2", "r3", "r4", "r5", "r6")
     };
 }
 
@@ -256,7 +244,7 @@ pub(crate) extern "C" fn recip_word(d: u32, table: &[u16; 256]) -> u32 {
         // m = the high word of 2^64 - d (2^32 + v1), below 2^15
         mul_u32_body!(),
         "negs r4, r0",
-        "negs r2, r2", // C: no borrow out of the low word
+        "negs r2, r6", // C: no borrow out of the low word
         "sbcs r4, r3",
         // v = v1 + m + v1 m / 2^32, the last from two 16 × 16-bit products
         "lsrs r5, r1, #16",
@@ -270,7 +258,7 @@ pub(crate) extern "C" fn recip_word(d: u32, table: &[u16; 256]) -> u32 {
         "adds r1, r1, r5",
         // e = 2^64 - 1 - d (2^32 + v) in (r4, r2): while e >= d, v += 1 and e -= d
         mul_u32_body!(),
-        "mvns r2, r2",
+        "mvns r2, r6",
         "mvns r4, r0",
         "subs r4, r4, r3",
         "2:",
