@@ -267,14 +267,14 @@ fn program1_pinhole(board: &str) -> &'static str {
 const MICROBIT_FLASH: u64 = 40 * 1024;
 
 /// The micro:bit's ceiling for Program 1 through a pinhole, instructions a
-/// pixel at 160x120: 5,770 measured (BENCHMARKS.md) with a few percent for
+/// pixel at 160x120: 5,684 measured (BENCHMARKS.md) with a few percent for
 /// toolchain drift. The build is for size (firmware/Cargo.toml's `microbit`
 /// profile, the default build held to 40 KiB of flash), with the Cortex-M0's
-/// products, bit counts and word reciprocal in Thumb-1 (src/number/thumb1.rs)
-/// and its divisions and square roots in one out-of-line copy each
+/// products, bit counts, word reciprocal and square root in Thumb-1
+/// (src/number/thumb1.rs) and its divisions in one out-of-line copy each
 /// (src/number/wide.rs); the exact retakes of docs/fixed-point.md run on
 /// every board.
-const MICROBIT_PINHOLE: u64 = 6100;
+const MICROBIT_PINHOLE: u64 = 6000;
 
 /// Program 1's adaptive frame at `width` x `height` and `samples` on the
 /// host: its stop rule (the pre-pass in `Renderer::new`), checked to be

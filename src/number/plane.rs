@@ -10,7 +10,7 @@
 
 use crate::number::q16::{shr_round, side_bits, FixedDir, FixedRow};
 use crate::number::wide::{
-    bits_u64, div_pow2_u32, div_rem_u64, isqrt_rem_u64, mul_i32, mul_i32_inline, mul_i64, mul_u32_inline, sar64,
+    bits_u64, div_pow2_u32, div_rem_u64, isqrt_floor_u64, mul_i32, mul_i32_inline, mul_i64, mul_u32_inline, sar64,
 };
 use fixed::types::I16F16;
 
@@ -108,7 +108,7 @@ fn q16(x: i64) -> I16F16 {
 pub(crate) fn unit_mantissas(d: [i64; 3]) -> Option<[i64; 3]> {
     // Each square of an i32 is below 2^62: the sum fits a u64.
     let sq: u64 = d.iter().map(|&x| mul_i32_inline(x as i32, x as i32) as u64).sum();
-    let l = isqrt_rem_u64(sq).0;
+    let l = isqrt_floor_u64(sq);
     if l == 0 {
         return None;
     }

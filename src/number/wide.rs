@@ -197,7 +197,7 @@ fn clz32(x: u32) -> u32 {
 /// Rounded `1 / sqrt(x)` in Q1.15 at the middle of each interval
 /// `[i, i + 1) / 512` of x in [1/4, 1), i in 128..512: `round(sqrt(2^40 / (2i + 1)))`,
 /// at most 65408, at index `i - 128` ([`rsqrt_start`]).
-const RSQRT_T: [u16; 384] = {
+static RSQRT_T: [u16; 384] = {
     let mut t = [0u16; 384];
     let mut i = 128;
     while i < 512 {
@@ -334,9 +334,10 @@ fn isqrt_estimate_u64(n: u64) -> u32 {
 /// Table start and Newton steps by products only (see
 /// [`isqrt_estimate_u64`]), then an exact correction by squares: some 150
 /// instructions on a Cortex-M0 where the bit-by-bit method took 500 or more.
-// One copy on the M0 (the per-ray normalisation calls it already).
-#[cfg_attr(lensray_v6m, inline(never))]
-#[cfg_attr(not(lensray_v6m), inline)]
+/// The other targets' square root, and the reference the M0's Thumb-1
+/// routine is checked against.
+#[cfg_attr(lensray_v6m, allow(dead_code))]
+#[inline]
 pub(crate) fn isqrt_rem_u64(n: u64) -> (u64, u64) {
     if n >> 32 == 0 {
         let (r, rem) = isqrt_rem_u32(n as u32);
@@ -345,15 +346,37 @@ pub(crate) fn isqrt_rem_u64(n: u64) -> (u64, u64) {
     isqrt_fix_u64(n, isqrt_estimate_u64(n) as u64)
 }
 
+/// `floor(sqrt(n))`, exact for every n: on the M0 the Thumb-1 routine.
+#[inline(always)]
+pub(crate) fn isqrt_floor_u64(n: u64) -> u64 {
+    #[cfg(lensray_v6m)]
+    {
+        super::thumb1::isqrt(n, &RSQRT_T) as u32 as u64
+    }
+    #[cfg(not(lensray_v6m))]
+    {
+        isqrt_rem_u64(n).0
+    }
+}
+
 /// `sqrt(n)` rounded to nearest (no ties are possible), exact for every n.
-#[inline]
+#[inline(always)]
 pub(crate) fn isqrt_round_u64(n: u64) -> u64 {
-    let (r, rem) = isqrt_rem_u64(n);
-    // sqrt(n) > r + 1/2 exactly when n > r^2 + r.
-    if rem > r {
-        r + 1
-    } else {
-        r
+    #[cfg(lensray_v6m)]
+    {
+        // The root in the low word, 1 in the high word where it rounds up.
+        let r = super::thumb1::isqrt(n, &RSQRT_T);
+        (r & 0xFFFF_FFFF) + (r >> 32)
+    }
+    #[cfg(not(lensray_v6m))]
+    {
+        let (r, rem) = isqrt_rem_u64(n);
+        // sqrt(n) > r + 1/2 exactly when n > r^2 + r.
+        if rem > r {
+            r + 1
+        } else {
+            r
+        }
     }
 }
 
@@ -736,11 +759,23 @@ pub(crate) fn check_thumb1(n: u32) -> Option<(&'static str, i64, i64)> {
         state ^= state << 5;
         state
     };
+    let round_portable = |n: u64| {
+        let (r, rem) = isqrt_rem_u64(n);
+        r + u64::from(rem > r)
+    };
     let mut failed = None;
     let mut pair = |a: i32, b: i32| {
         let exact = a as i64 * b as i64;
-        // A normalised divisor from either factor.
+        // A normalised divisor from either factor, and a radicand of both
+        // (every other one a square, one below, or where the rounding turns).
         let d = (a as u32 | 1 << 31) ^ (b as u32 & 0x7FFF_FFFF);
+        let n = ((a as u64) << 32 | b as u32 as u64) >> (b as u32 & 63);
+        let m = n as u32 as u64;
+        let n = if a & 1 == 0 {
+            n
+        } else {
+            (m * m).wrapping_add([u64::MAX, 0, 1, m, m + 1, 2 * m][b.rem_euclid(6) as usize])
+        };
         let q16 = ((exact + 0x8000) >> 16).clamp(i32::MIN as i64, i32::MAX as i64) as i32;
         let (a64, b64) = (a as i64 >> (b as u32 & 31), (b as i64) << (a as u32 % 30));
         let wide = a64.checked_mul(b64).is_none_or(|p| p == mul_i64(a64, b64));
@@ -754,16 +789,16 @@ pub(crate) fn check_thumb1(n: u32) -> Option<(&'static str, i64, i64)> {
             Some("clz32")
         } else if recip_word(d) != recip_word_portable(d) {
             Some("recip_word")
+        } else if isqrt_round_u64(n) != round_portable(n) || isqrt_floor_u64(n) != isqrt_rem_u64(n).0 {
+            Some("isqrt")
         } else {
             None
         };
         if failed.is_none() {
-            failed = fail.map(|k| {
-                if k == "recip_word" {
-                    (k, d as i64, 0)
-                } else {
-                    (k, a as i64, b as i64)
-                }
+            failed = fail.map(|k| match k {
+                "recip_word" => (k, d as i64, 0),
+                "isqrt" => (k, n as i64, 0),
+                _ => (k, a as i64, b as i64),
             });
         }
     };

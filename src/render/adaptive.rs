@@ -150,7 +150,7 @@ impl<S: Scalar> Sums<S> {
             .sum();
         // Never 0 (g ≥ 2, size ≥ 1): `checked_div` spares a panicking check.
         let mean_square = spread.checked_div(g * g * (g - 1) * size * size).unwrap_or(0);
-        crate::number::wide::isqrt_rem_u64(mean_square).0 as u32
+        crate::number::wide::isqrt_floor_u64(mean_square) as u32
     }
 
     /// After a check at `n` rays: from [`BLOCKS`] rays on, pairs of blocks
