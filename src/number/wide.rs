@@ -734,7 +734,6 @@ pub(crate) fn div_rem_u64_big(n: u64, d: u64) -> (u64, u64) {
 /// has no Thumb-1 to run.
 #[cfg(lensray_v6m)]
 pub(crate) fn check_thumb1(n: u32) -> Option<(&'static str, i64, i64)> {
-    use super::thumb1::{clz32, mul_i32, mul_i64, mul_q16};
     const EDGES: [i32; 14] = [
         0,
         1,
@@ -759,60 +758,54 @@ pub(crate) fn check_thumb1(n: u32) -> Option<(&'static str, i64, i64)> {
         state ^= state << 5;
         state
     };
-    let round_portable = |n: u64| {
-        let (r, rem) = isqrt_rem_u64(n);
-        r + u64::from(rem > r)
-    };
-    let mut failed = None;
-    let mut pair = |a: i32, b: i32| {
-        let exact = a as i64 * b as i64;
-        // A normalised divisor from either factor, and a radicand of both
-        // (every other one a square, one below, or where the rounding turns).
-        let d = (a as u32 | 1 << 31) ^ (b as u32 & 0x7FFF_FFFF);
-        let n = ((a as u64) << 32 | b as u32 as u64) >> (b as u32 & 63);
-        let m = n as u32 as u64;
-        let n = if a & 1 == 0 {
-            n
-        } else {
-            (m * m).wrapping_add([u64::MAX, 0, 1, m, m + 1, 2 * m][b.rem_euclid(6) as usize])
-        };
-        let q16 = ((exact + 0x8000) >> 16).clamp(i32::MIN as i64, i32::MAX as i64) as i32;
-        let (a64, b64) = (a as i64 >> (b as u32 & 31), (b as i64) << (a as u32 % 30));
-        let wide = a64.checked_mul(b64).is_none_or(|p| p == mul_i64(a64, b64));
-        let fail = if mul_i32(a, b) != exact {
-            Some("mul_i32")
-        } else if mul_i64(a as i64, b as i64) != exact || !wide {
-            Some("mul_i64")
-        } else if mul_q16(a, b) != q16 {
-            Some("mul_q16")
-        } else if clz32(a as u32) != (a as u32).leading_zeros() {
-            Some("clz32")
-        } else if recip_word(d) != recip_word_portable(d) {
-            Some("recip_word")
-        } else if isqrt_round_u64(n) != round_portable(n) || isqrt_floor_u64(n) != isqrt_rem_u64(n).0 {
-            Some("isqrt")
-        } else {
-            None
-        };
-        if failed.is_none() {
-            failed = fail.map(|k| match k {
-                "recip_word" => (k, d as i64, 0),
-                "isqrt" => (k, n as i64, 0),
-                _ => (k, a as i64, b as i64),
-            });
-        }
-    };
-    for a in EDGES {
-        for b in EDGES {
-            pair(a, b);
-        }
-    }
-    for _ in 0..n {
-        // Magnitudes from 1 bit to 32, either sign.
+    let edges = EDGES.iter().flat_map(|&a| EDGES.map(|b| (a, b)));
+    // Magnitudes from 1 bit to 32, either sign.
+    let random = (0..n).map(|_| {
         let (ra, rb, shifts) = (next(), next(), next());
-        pair((ra as i32) >> (shifts & 31), (rb as i32) >> ((shifts >> 5) & 31));
+        ((ra as i32) >> (shifts & 31), (rb as i32) >> ((shifts >> 5) & 31))
+    });
+    edges.chain(random).find_map(|(a, b)| thumb1_differs(a, b))
+}
+
+/// The first Thumb-1 kernel that differs from the portable Rust on operands
+/// drawn from `a` and `b`, with those operands.
+#[cfg(lensray_v6m)]
+fn thumb1_differs(a: i32, b: i32) -> Option<(&'static str, i64, i64)> {
+    use super::thumb1::{clz32, mul_i32, mul_i64, mul_q16};
+    let exact = a as i64 * b as i64;
+    if mul_i32(a, b) != exact {
+        return Some(("mul_i32", a as i64, b as i64));
     }
-    failed
+    // Factors within an i32, and one beyond it whose product still fits.
+    let (a64, b64) = (a as i64 >> (b as u32 & 31), (b as i64) << (a as u32 % 30));
+    if mul_i64(a as i64, b as i64) != exact || a64.checked_mul(b64).is_some_and(|p| p != mul_i64(a64, b64)) {
+        return Some(("mul_i64", a as i64, b as i64));
+    }
+    let q16 = ((exact + 0x8000) >> 16).clamp(i32::MIN as i64, i32::MAX as i64) as i32;
+    if mul_q16(a, b) != q16 {
+        return Some(("mul_q16", a as i64, b as i64));
+    }
+    if clz32(a as u32) != (a as u32).leading_zeros() {
+        return Some(("clz32", a as i64, 0));
+    }
+    // A normalised divisor from either factor.
+    let d = (a as u32 | 1 << 31) ^ (b as u32 & 0x7FFF_FFFF);
+    if recip_word(d) != recip_word_portable(d) {
+        return Some(("recip_word", d as i64, 0));
+    }
+    // A radicand of both; every other one a square, one below, or where the rounding turns.
+    let n = ((a as u64) << 32 | b as u32 as u64) >> (b as u32 & 63);
+    let m = n as u32 as u64;
+    let n = if a & 1 == 0 {
+        n
+    } else {
+        (m * m).wrapping_add([u64::MAX, 0, 1, m, m + 1, 2 * m][b.rem_euclid(6) as usize])
+    };
+    let (r, rem) = isqrt_rem_u64(n);
+    if isqrt_floor_u64(n) != r || isqrt_round_u64(n) != r + u64::from(rem > r) {
+        return Some(("isqrt", n as i64, 0));
+    }
+    None
 }
 
 #[cfg(test)]
