@@ -100,8 +100,8 @@ mod test_rng;
 mod tests;
 
 /// On a Cortex-M0 build, runs its Thumb-1 kernels against the portable Rust
-/// on the edge values and `pairs` pseudo-random pairs: the first pair that
-/// differs, as the kernel's name and the two factors. Elsewhere there are no
+/// on the edge values and `pairs` pseudo-random pairs: the first kernel that
+/// differs, with its operands. Elsewhere there are no
 /// such kernels: `None`. For the firmware's own test (`LENSRAY_CHECK=kernels`).
 #[doc(hidden)]
 pub fn check_thumb1_kernels(pairs: u32) -> Option<(&'static str, i64, i64)> {
